@@ -1,0 +1,77 @@
+"""Command line: ``python -m validation list | run CASE [--quick] | all [--quick]``."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import pkgutil
+import sys
+import time
+from collections.abc import Callable
+
+import validation.cases
+from validation.report import write_results
+
+
+def discover_cases() -> dict[str, Callable]:
+    """Every case: each module of ``validation.cases`` exposes ``CASES = {name: run}``.
+
+    ``run(quick: bool)`` returns a list of :class:`validation.report.Row`, or a pair
+    ``(rows, notes)`` where ``notes`` is markdown stating the case's assumptions.
+    """
+    cases: dict[str, Callable] = {}
+    for info in sorted(pkgutil.iter_modules(validation.cases.__path__), key=lambda m: m.name):
+        module = importlib.import_module(f"validation.cases.{info.name}")
+        for name, run in getattr(module, "CASES", {}).items():
+            if name in cases:
+                raise RuntimeError(f"validation case {name!r} is defined twice")
+            cases[name] = run
+    return cases
+
+
+CASES = discover_cases()
+
+
+def run_case(name: str, quick: bool) -> None:
+    """Run one case and write ``validation/results/NAME.{json,md}``."""
+    start = time.perf_counter()
+    out = CASES[name](quick=quick)
+    rows, notes = out if isinstance(out, tuple) else (out, "")
+    wall = time.perf_counter() - start
+    json_path, md_path = write_results(name, rows, quick=quick, wall_s=wall, notes=notes)
+    print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {json_path}, {md_path}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m validation")
+    sub = parser.add_subparsers(dest="command", required=True)
+    sub.add_parser("list", help="name every case")
+    run = sub.add_parser("run", help="run one case")
+    run.add_argument("case", choices=sorted(CASES))
+    run.add_argument("--quick", action="store_true", help="small, fast version")
+    every = sub.add_parser("all", help="run every case")
+    every.add_argument("--quick", action="store_true", help="small, fast versions")
+    args = parser.parse_args(argv)
+
+    if args.command == "list":
+        for name in CASES:
+            print(name)
+        return 0
+    names = [args.case] if args.command == "run" else list(CASES)
+    failed = []
+    for name in names:
+        try:
+            run_case(name, args.quick)
+        except Exception as exc:  # report every case, fail at the end
+            print(f"{name}: FAILED: {type(exc).__name__}: {exc}", file=sys.stderr)
+            failed.append(name)
+            if args.command == "run":
+                raise
+    if failed:
+        print(f"failed cases: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
