@@ -111,7 +111,12 @@ def _fmt(value: Any) -> str:
 
 
 def write_results(
-    case: str, rows: list[Row], *, quick: bool, wall_s: float, notes: str = "",
+    case: str,
+    rows: list[Row],
+    *,
+    quick: bool,
+    wall_s: float,
+    notes: str = "",
     out_dir: Path = RESULTS_DIR,
 ) -> tuple[Path, Path]:
     """Write ``CASE.json`` and ``CASE.md`` and return their paths."""

@@ -1,0 +1,231 @@
+"""Interfaces between convex blocks, found from geometry.
+
+Two blocks share an interface where a face of one and a face of the other lie in the same plane
+with opposite outward normals and their polygons overlap with positive area. The interface is
+the exact intersection of the two face polygons.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from dem.geometry.clipping import clip_convex_polygons, polygon_properties
+from dem.geometry.polyhedron import ConvexBlock, penetration_depth, plane_basis
+
+REL_TOL = 1e-6
+"""Default tolerance for coplanarity and overlap, relative to the median block size."""
+
+
+class OverlapError(ValueError):
+    """Blocks interpenetrate in the input geometry.
+
+    Attributes
+    ----------
+    overlaps : list of (int, int, float)
+        ``(i_block, j_block, depth [m])`` for every overlapping pair.
+    """
+
+    def __init__(self, overlaps: list[tuple[int, int, float]]):
+        self.overlaps = overlaps
+        shown = ", ".join(f"blocks {i} and {j} by {d:.3e} m" for i, j, d in overlaps[:5])
+        more = f" (and {len(overlaps) - 5} more pairs)" if len(overlaps) > 5 else ""
+        super().__init__(f"{len(overlaps)} pairs of blocks overlap: {shown}{more}")
+
+
+@dataclass(frozen=True, eq=False)
+class Interfaces:
+    """Contact interfaces of an assembly, as struct-of-arrays.
+
+    The normal ``n`` is the outward normal of ``block_a``'s face (it points from block a into
+    block b); ``block_a < block_b``. Local coordinates ``y1, y2`` along ``t1, t2`` are measured
+    from the interface centroid.
+
+    Attributes
+    ----------
+    block_a, block_b : (m,) int64
+        The two blocks.
+    face_a, face_b : (m,) int64
+        Face index within each block.
+    poly_ptr : (m + 1,) int64
+        Interface ``k`` has corners ``poly_points[poly_ptr[k]:poly_ptr[k + 1]]``.
+    poly_points : (p, 3) float
+        Corners of the contact polygons, counter-clockwise about ``n`` [m].
+    area : (m,) float
+        [m^2].
+    centroid : (m, 3) float
+        [m].
+    frame : (m, 3, 3) float
+        Rows ``n, t1, t2`` (right-handed).
+    second_moments : (m, 3) float
+        ``J11 = int y1^2 dA``, ``J22 = int y2^2 dA``, ``J12 = int y1 y2 dA`` [m^4]; the polar
+        moment is ``J11 + J22``.
+    """
+
+    block_a: np.ndarray
+    block_b: np.ndarray
+    face_a: np.ndarray
+    face_b: np.ndarray
+    poly_ptr: np.ndarray
+    poly_points: np.ndarray
+    area: np.ndarray
+    centroid: np.ndarray
+    frame: np.ndarray
+    second_moments: np.ndarray
+
+    @property
+    def n_interfaces(self) -> int:
+        return len(self.area)
+
+    @property
+    def polar_moment(self) -> np.ndarray:
+        """(m,) polar second moment about the centroid [m^4]."""
+        return self.second_moments[:, 0] + self.second_moments[:, 1]
+
+    def polygon(self, k: int) -> np.ndarray:
+        """(n_k, 3) corners of interface ``k`` [m]."""
+        return self.poly_points[self.poly_ptr[k] : self.poly_ptr[k + 1]]
+
+    def local_polygon(self, k: int) -> np.ndarray:
+        """(n_k, 2) corners of interface ``k`` in ``(y1, y2)`` about its centroid [m]."""
+        rel = self.polygon(k) - self.centroid[k]
+        return rel @ self.frame[k, 1:].T
+
+
+def bounding_boxes(blocks: Sequence[ConvexBlock]) -> tuple[np.ndarray, np.ndarray]:
+    """(n, 3) lower and upper corners of each block's axis-aligned box [m]."""
+    lo = np.array([b.vertices.min(axis=0) for b in blocks])
+    hi = np.array([b.vertices.max(axis=0) for b in blocks])
+    return lo, hi
+
+
+def candidate_pairs(lo: np.ndarray, hi: np.ndarray, margin: float) -> np.ndarray:
+    """Pairs of boxes that overlap after growing each by ``margin`` (sort and sweep).
+
+    Sorting by the lower x bound and scanning forward costs ``O(n log n + k)`` for ``k``
+    pairs whose x ranges overlap.
+
+    Returns
+    -------
+    (k, 2) int64
+        ``i < j`` for each pair.
+    """
+    lo = lo - margin
+    hi = hi + margin
+    order = np.argsort(lo[:, 0], kind="stable")
+    lo_x = lo[order, 0]
+    ends = np.searchsorted(lo_x, hi[order, 0], side="right")
+    pairs = []
+    for pos in range(len(order)):
+        others = order[pos + 1 : ends[pos]]
+        if len(others) == 0:
+            continue
+        i = order[pos]
+        hit = np.all((lo[others, 1:] <= hi[i, 1:]) & (hi[others, 1:] >= lo[i, 1:]), axis=1)
+        for j in others[hit]:
+            pairs.append((min(i, j), max(i, j)))
+    if not pairs:
+        return np.zeros((0, 2), dtype=np.int64)
+    return np.array(sorted(pairs), dtype=np.int64)
+
+
+def find_interfaces(
+    blocks: Sequence[ConvexBlock], rel_tol: float = REL_TOL, check_overlaps: bool = True
+) -> Interfaces:
+    """Find every face-to-face interface of a set of convex blocks.
+
+    Parameters
+    ----------
+    blocks : sequence of ConvexBlock
+    rel_tol : float
+        Tolerance relative to the median block size: faces closer than this to a common plane
+        are coplanar, polygons of smaller area than ``(rel_tol * size)^2`` are dropped,
+        interpenetration deeper than this is an error.
+    check_overlaps : bool
+        Test every candidate pair for interpenetration (separating axis theorem).
+
+    Raises
+    ------
+    OverlapError
+        If blocks interpenetrate by more than the tolerance; it lists the pairs and depths.
+    """
+    if len(blocks) == 0:
+        raise ValueError("an assembly needs at least one block")
+    size = float(np.median([b.size for b in blocks]))
+    tol = rel_tol * size
+    lo, hi = bounding_boxes(blocks)
+    pairs = candidate_pairs(lo, hi, tol)
+
+    rows: list[tuple] = []
+    overlaps: list[tuple[int, int, float]] = []
+    for i, j in pairs:
+        a, b = blocks[i], blocks[j]
+        if check_overlaps:
+            depth = penetration_depth(a, b)
+            if depth > tol:
+                overlaps.append((int(i), int(j), depth))
+                continue
+        dots = a.normals @ b.normals.T
+        gap = np.abs(a.offsets[:, None] + b.offsets[None, :])
+        for fa, fb in zip(*np.nonzero((dots < -1.0 + rel_tol) & (gap < tol)), strict=True):
+            row = _face_pair_interface(a, b, fa, fb, tol)
+            if row is not None:
+                rows.append((i, j, fa, fb, *row))
+    if overlaps:
+        raise OverlapError(overlaps)
+    return _pack(rows)
+
+
+def _face_pair_interface(
+    a: ConvexBlock, b: ConvexBlock, fa: int, fb: int, tol: float
+) -> tuple | None:
+    """Polygon, area, centroid, frame and second moments of face ``fa`` of a against ``fb`` of b."""
+    n = a.normals[fa]
+    t1, t2 = plane_basis(n)
+    origin = a.offsets[fa] * n
+    basis = np.stack([t1, t2])
+    poly_a = (a.vertices[a.faces[fa]] - origin) @ basis.T
+    # b's face is counter-clockwise about -n, hence clockwise in a's basis: reverse it.
+    poly_b = ((b.vertices[b.faces[fb]] - origin) @ basis.T)[::-1]
+    poly = clip_convex_polygons(poly_a, poly_b, tol)
+    if len(poly) < 3:
+        return None
+    area, centroid_2d, moments = polygon_properties(poly)
+    if area <= tol * tol:
+        return None
+    points = origin + poly @ basis
+    centroid = origin + centroid_2d @ basis
+    return points, area, centroid, np.stack([n, t1, t2]), moments
+
+
+def _pack(rows: list[tuple]) -> Interfaces:
+    m = len(rows)
+    if m == 0:
+        empty_i = np.zeros(0, dtype=np.int64)
+        return Interfaces(
+            empty_i,
+            empty_i,
+            empty_i,
+            empty_i,
+            np.zeros(1, dtype=np.int64),
+            np.zeros((0, 3)),
+            np.zeros(0),
+            np.zeros((0, 3)),
+            np.zeros((0, 3, 3)),
+            np.zeros((0, 3)),
+        )
+    counts = np.array([len(r[4]) for r in rows])
+    return Interfaces(
+        block_a=np.array([r[0] for r in rows], dtype=np.int64),
+        block_b=np.array([r[1] for r in rows], dtype=np.int64),
+        face_a=np.array([r[2] for r in rows], dtype=np.int64),
+        face_b=np.array([r[3] for r in rows], dtype=np.int64),
+        poly_ptr=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
+        poly_points=np.concatenate([r[4] for r in rows]),
+        area=np.array([r[5] for r in rows]),
+        centroid=np.array([r[6] for r in rows]),
+        frame=np.array([r[7] for r in rows]),
+        second_moments=np.array([r[8] for r in rows]),
+    )

@@ -1,0 +1,377 @@
+"""The scene every method reads: convex blocks, supports and loads (SI units).
+
+Degrees of freedom of a block are ordered ``(ux, uy, uz, rx, ry, rz)``: translation of the
+centroid [m] and small rotation about the centroid [rad]. Wrenches are ordered the same way:
+``(Fx, Fy, Fz, Mx, My, Mz)``, force [N] at the centroid and moment about it [N m].
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+
+from dem.geometry.interfaces import Interfaces, find_interfaces
+from dem.geometry.polyhedron import ConvexBlock, convex_block
+from dem.units import G
+
+DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+
+@dataclass(frozen=True, eq=False)
+class BlockArrays:
+    """Flat arrays of all block geometry for numba kernels (CSR-style offsets).
+
+    Attributes
+    ----------
+    vert_ptr : (n_blocks + 1,) int64
+        Block ``i`` has vertices ``vertices[vert_ptr[i]:vert_ptr[i + 1]]``.
+    vertices : (n_vert, 3) float64
+        [m].
+    face_ptr : (n_blocks + 1,) int64
+        Block ``i`` has faces ``face_ptr[i]:face_ptr[i + 1]``.
+    face_normal : (n_faces, 3) float64
+        Outward unit normals.
+    face_offset : (n_faces,) float64
+        ``n . x = d`` on the face [m].
+    face_vert_ptr : (n_faces + 1,) int64
+        Face ``f`` has corners ``face_vert[face_vert_ptr[f]:face_vert_ptr[f + 1]]``.
+    face_vert : (n_corner,) int64
+        Global indices into ``vertices``, counter-clockwise seen from outside.
+    """
+
+    vert_ptr: np.ndarray
+    vertices: np.ndarray
+    face_ptr: np.ndarray
+    face_normal: np.ndarray
+    face_offset: np.ndarray
+    face_vert_ptr: np.ndarray
+    face_vert: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class Assembly:
+    """Convex rigid blocks with their density and (optional) friction coefficient.
+
+    Attributes
+    ----------
+    blocks : tuple of ConvexBlock
+    density : (n_blocks,) float
+        [kg/m^3].
+    mu : (n_blocks,) float or None
+        Friction coefficient of each block's surface [-]; None when the scene leaves friction
+        to the solver settings. How two blocks' values combine is the solver's documented rule.
+    """
+
+    blocks: tuple[ConvexBlock, ...]
+    density: np.ndarray
+    mu: np.ndarray | None = None
+
+    def __post_init__(self):
+        n = len(self.blocks)
+        if n == 0:
+            raise ValueError("an assembly needs at least one block")
+        density = np.broadcast_to(np.asarray(self.density, dtype=float), (n,)).copy()
+        if not np.all(np.isfinite(density)) or np.any(density <= 0):
+            raise ValueError("density must be finite and positive for every block [kg/m^3]")
+        object.__setattr__(self, "density", density)
+        if self.mu is not None:
+            mu = np.broadcast_to(np.asarray(self.mu, dtype=float), (n,)).copy()
+            if not np.all(np.isfinite(mu)) or np.any(mu < 0):
+                raise ValueError("friction coefficient mu must be finite and >= 0 for every block")
+            object.__setattr__(self, "mu", mu)
+
+    @classmethod
+    def from_convex_blocks(
+        cls,
+        vertex_arrays: Iterable[np.ndarray],
+        density: float | Sequence[float],
+        mu: float | Sequence[float] | None = None,
+        exact: bool = False,
+    ) -> Assembly:
+        """Blocks from a list of vertex arrays, each the corners of one convex block.
+
+        Parameters
+        ----------
+        vertex_arrays : iterable of (n_i, 3) array_like
+            [m].
+        density : float or (n_blocks,)
+            [kg/m^3].
+        mu : float or (n_blocks,), optional
+            Friction coefficient [-].
+        exact : bool
+            Require each vertex list to be in convex position (see :func:`convex_block`).
+        """
+        blocks = []
+        for i, v in enumerate(vertex_arrays):
+            try:
+                blocks.append(convex_block(v, exact=exact))
+            except ValueError as exc:
+                raise ValueError(f"block {i}: {exc}") from exc
+        return cls(tuple(blocks), density, mu)
+
+    @property
+    def n_blocks(self) -> int:
+        return len(self.blocks)
+
+    @cached_property
+    def volume(self) -> np.ndarray:
+        """(n_blocks,) [m^3]."""
+        return np.array([b.volume for b in self.blocks])
+
+    @cached_property
+    def mass(self) -> np.ndarray:
+        """(n_blocks,) [kg]."""
+        return self.volume * self.density
+
+    @cached_property
+    def centroid(self) -> np.ndarray:
+        """(n_blocks, 3) [m]."""
+        return np.array([b.centroid for b in self.blocks])
+
+    @cached_property
+    def inertia(self) -> np.ndarray:
+        """(n_blocks, 3, 3) inertia tensors about the centroids [kg m^2]."""
+        return np.array([b.inertia * rho for b, rho in zip(self.blocks, self.density, strict=True)])
+
+    @cached_property
+    def arrays(self) -> BlockArrays:
+        """Flat geometry arrays for numba kernels."""
+        nv = np.array([len(b.vertices) for b in self.blocks])
+        nf = np.array([len(b.faces) for b in self.blocks])
+        vert_ptr = np.concatenate([[0], np.cumsum(nv)]).astype(np.int64)
+        faces = [f + vert_ptr[i] for i, b in enumerate(self.blocks) for f in b.faces]
+        return BlockArrays(
+            vert_ptr=vert_ptr,
+            vertices=np.ascontiguousarray(np.concatenate([b.vertices for b in self.blocks])),
+            face_ptr=np.concatenate([[0], np.cumsum(nf)]).astype(np.int64),
+            face_normal=np.ascontiguousarray(np.concatenate([b.normals for b in self.blocks])),
+            face_offset=np.concatenate([b.offsets for b in self.blocks]),
+            face_vert_ptr=np.concatenate([[0], np.cumsum([len(f) for f in faces])]).astype(
+                np.int64
+            ),
+            face_vert=np.concatenate(faces).astype(np.int64),
+        )
+
+    def interfaces(self, rel_tol: float | None = None) -> Interfaces:
+        """Face-to-face interfaces (see :func:`dem.geometry.interfaces.find_interfaces`)."""
+        if rel_tol is None:
+            return self._interfaces
+        return find_interfaces(self.blocks, rel_tol)
+
+    @cached_property
+    def _interfaces(self) -> Interfaces:
+        return find_interfaces(self.blocks)
+
+
+@dataclass(frozen=True, eq=False)
+class Supports:
+    """Which blocks or block dofs are held fixed.
+
+    Attributes
+    ----------
+    fixed : (n_blocks,) bool
+        Blocks held in place entirely (foundations, frames, return walls modelled as rigid).
+    restrained : (n_blocks, 6) bool
+        Single restrained dofs ``(ux, uy, uz, rx, ry, rz)`` of otherwise free blocks, e.g. the
+        out-of-plane translation of the blocks along a simply supported edge.
+    """
+
+    fixed: np.ndarray
+    restrained: np.ndarray
+
+    @classmethod
+    def none(cls, n_blocks: int) -> Supports:
+        return cls(np.zeros(n_blocks, dtype=bool), np.zeros((n_blocks, 6), dtype=bool))
+
+    @classmethod
+    def fixed_blocks(cls, n_blocks: int, fixed: Iterable[int]) -> Supports:
+        mask = np.zeros(n_blocks, dtype=bool)
+        ids = np.asarray(list(fixed), dtype=np.int64)
+        if ids.size and (ids.min() < 0 or ids.max() >= n_blocks):
+            raise ValueError(f"fixed block index out of range 0..{n_blocks - 1}: {ids.tolist()}")
+        mask[ids] = True
+        return cls(mask, np.zeros((n_blocks, 6), dtype=bool))
+
+    @property
+    def free_dofs(self) -> np.ndarray:
+        """(n_blocks, 6) bool: dofs that are unknowns of a solver."""
+        return ~self.fixed[:, None] & ~self.restrained
+
+    @property
+    def has_any(self) -> bool:
+        return bool(self.fixed.any() or self.restrained.any())
+
+
+@dataclass(frozen=True, eq=False)
+class Loads:
+    """Dead and live loads on the blocks.
+
+    Attributes
+    ----------
+    gravity : (3,) float
+        Acceleration of self weight [m/s^2], part of the dead load.
+    dead_wrench : (n_blocks, 6) float
+        Further dead forces at the centroids and moments about them [N, N m] (e.g. beams).
+    live_wrench : (n_blocks, 6) float
+        The live-load pattern, scaled by the load multiplier lambda [N, N m].
+    """
+
+    gravity: np.ndarray
+    dead_wrench: np.ndarray
+    live_wrench: np.ndarray
+
+    @classmethod
+    def gravity_only(cls, n_blocks: int, g: float = G) -> Loads:
+        zero = np.zeros((n_blocks, 6))
+        return cls(np.array([0.0, 0.0, -g]), zero, zero.copy())
+
+
+def weight_wrench(assembly: Assembly, gravity: np.ndarray) -> np.ndarray:
+    """(n_blocks, 6) self weight ``m g`` at each centroid [N]."""
+    out = np.zeros((assembly.n_blocks, 6))
+    out[:, :3] = assembly.mass[:, None] * np.asarray(gravity, dtype=float)
+    return out
+
+
+def proportional_to_weight(
+    assembly: Assembly, direction: Sequence[float], g: float = G
+) -> np.ndarray:
+    """(n_blocks, 6) live pattern: each block's weight ``m g`` acting along ``direction`` [N]."""
+    d = np.asarray(direction, dtype=float)
+    if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
+        raise ValueError(f"load direction must be a finite non-zero 3-vector, got {direction}")
+    return weight_wrench(assembly, g * d / np.linalg.norm(d))
+
+
+def point_load(
+    assembly: Assembly, block: int, point: Sequence[float], force: Sequence[float]
+) -> np.ndarray:
+    """(n_blocks, 6) a force [N] applied at ``point`` [m] of one block, moved to its centroid."""
+    if not 0 <= block < assembly.n_blocks:
+        raise ValueError(f"block index {block} out of range 0..{assembly.n_blocks - 1}")
+    out = np.zeros((assembly.n_blocks, 6))
+    f = np.asarray(force, dtype=float)
+    out[block, :3] = f
+    out[block, 3:] = np.cross(np.asarray(point, dtype=float) - assembly.centroid[block], f)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """Blocks, supports and loads: the input of every solver.
+
+    Attributes
+    ----------
+    assembly : Assembly
+    supports : Supports
+    loads : Loads
+    name : str
+    meta : dict
+        The builder's parameters in paper units, for the record.
+    """
+
+    assembly: Assembly
+    supports: Supports
+    loads: Loads
+    name: str = "scene"
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        n = self.assembly.n_blocks
+        checks = {
+            "supports.fixed": (self.supports.fixed, (n,)),
+            "supports.restrained": (self.supports.restrained, (n, 6)),
+            "loads.gravity": (self.loads.gravity, (3,)),
+            "loads.dead_wrench": (self.loads.dead_wrench, (n, 6)),
+            "loads.live_wrench": (self.loads.live_wrench, (n, 6)),
+        }
+        for name, (arr, shape) in checks.items():
+            if np.shape(arr) != shape:
+                raise ValueError(f"{name} must have shape {shape}, got {np.shape(arr)}")
+        for name in ("gravity", "dead_wrench", "live_wrench"):
+            if not np.all(np.isfinite(getattr(self.loads, name))):
+                raise ValueError(f"loads.{name} contains NaN or inf")
+
+    @classmethod
+    def from_convex_blocks(
+        cls,
+        vertex_arrays: Iterable[np.ndarray],
+        density: float | Sequence[float],
+        fixed: Iterable[int] = (),
+        mu: float | Sequence[float] | None = None,
+        g: float = G,
+        name: str = "scene",
+    ) -> Scene:
+        """A scene under self weight from user blocks; add live loads with :meth:`with_loads`."""
+        assembly = Assembly.from_convex_blocks(vertex_arrays, density, mu)
+        n = assembly.n_blocks
+        return cls(assembly, Supports.fixed_blocks(n, fixed), Loads.gravity_only(n, g), name)
+
+    @property
+    def n_blocks(self) -> int:
+        return self.assembly.n_blocks
+
+    @property
+    def free_blocks(self) -> np.ndarray:
+        """(n_free,) int64 indices of blocks that are not fixed."""
+        return np.flatnonzero(~self.supports.fixed)
+
+    @property
+    def dead_wrench(self) -> np.ndarray:
+        """(n_blocks, 6) total dead load: self weight plus extra dead forces [N, N m]."""
+        return weight_wrench(self.assembly, self.loads.gravity) + self.loads.dead_wrench
+
+    def with_loads(
+        self, *, dead: np.ndarray | None = None, live: np.ndarray | None = None
+    ) -> Scene:
+        """A copy with extra dead and/or live wrenches added (value semantics)."""
+        loads = Loads(
+            self.loads.gravity,
+            self.loads.dead_wrench + (0 if dead is None else np.asarray(dead, dtype=float)),
+            self.loads.live_wrench + (0 if live is None else np.asarray(live, dtype=float)),
+        )
+        return Scene(self.assembly, self.supports, loads, self.name, self.meta)
+
+    def with_supports(self, supports: Supports) -> Scene:
+        return Scene(self.assembly, supports, self.loads, self.name, self.meta)
+
+    # -- JSON -------------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        a = self.assembly
+        return {
+            "name": self.name,
+            "meta": self.meta,
+            "blocks": [b.vertices.tolist() for b in a.blocks],
+            "density": a.density.tolist(),
+            "mu": None if a.mu is None else a.mu.tolist(),
+            "fixed": self.supports.fixed.tolist(),
+            "restrained": self.supports.restrained.tolist(),
+            "gravity": self.loads.gravity.tolist(),
+            "dead_wrench": self.loads.dead_wrench.tolist(),
+            "live_wrench": self.loads.live_wrench.tolist(),
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Scene:
+        assembly = Assembly.from_convex_blocks(data["blocks"], data["density"], data["mu"])
+        supports = Supports(
+            np.array(data["fixed"], dtype=bool), np.array(data["restrained"], dtype=bool)
+        )
+        loads = Loads(
+            np.array(data["gravity"], dtype=float),
+            np.array(data["dead_wrench"], dtype=float),
+            np.array(data["live_wrench"], dtype=float),
+        )
+        return cls(assembly, supports, loads, data.get("name", "scene"), data.get("meta", {}))
+
+    def to_json(self, path: str | Path) -> None:
+        Path(path).write_text(json.dumps(self.to_dict()))
+
+    @classmethod
+    def from_json(cls, path: str | Path) -> Scene:
+        return cls.from_dict(json.loads(Path(path).read_text()))
