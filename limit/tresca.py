@@ -1,0 +1,461 @@
+r"""Normal and friction forces in a jammed 2D packing of rigid cells with Tresca friction.
+
+Seed 003 (Marazzato, *Computation of stresses in jammed packings modeled with Tresca
+friction*), Sec. 2 and 4.1. Cells translate rigidly (no rotation, so only force balance is
+imposed per cell); neighbouring cells may not interpenetrate and dissipate
+:math:`s\,|[u]\cdot t|` per unit length of their common edge (Tresca threshold :math:`s`). The
+primal linear program, seed 003 Eq. (16), in the cell translations :math:`u_c` and one slack
+:math:`\tau_e` per internal edge reads
+
+.. math::
+
+    \min_{u, \tau}\; \sum_{e \in E_i} s\,|e|\,\tau_e - \sum_{b \in E_b} |b|\, g_b \cdot u_{c(b)}
+    \quad\text{s.t.}\quad [u]_e\cdot n_e \ge 0,\;\; -\tau_e \le [u]_e\cdot t_e \le \tau_e,\;\;
+    \sum_c u_c = 0,
+
+with :math:`[u]_e = u_b - u_a` for the edge normal :math:`n_e` pointing from cell ``a`` to
+cell ``b`` and :math:`g_b` the traction on boundary edge :math:`b` (Neumann data). Its dual
+(seed 003 Eq. 12-14) is a pure feasibility problem: find a normal force :math:`\lambda_e \ge 0`
+and a friction force :math:`|f_{t,e}| \le s|e|` on every internal edge so that every cell is
+in force balance. The multipliers of the non-interpenetration constraints are the normal forces.
+
+Because the dual objective is identically zero, any statically admissible force set is
+dual-optimal (seed 003, Remark 4 and Sec. 4.5). ``selection="solver"`` returns the multipliers
+the LP solver found, as in the paper. ``selection="min_energy"`` (our addition) picks the
+admissible set that minimises :math:`\sum_e d_e (\lambda_e^2 + f_{t,e}^2) / (2|e|)`, with
+:math:`d_e` the distance between the two cell centres along :math:`n_e`. On a Voronoi packing
+the Voronoi property (centre-to-centre vector parallel to the edge normal) makes the forces of
+any uniform stress a KKT point of that problem, so a homogeneous load returns the homogeneous
+stress, which the paper shows is admissible but which its solver did not find.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+import warnings
+from dataclasses import dataclass
+
+import cvxpy as cp
+import numpy as np
+import scipy.sparse as sp
+
+from limit.errors import LimitAnalysisError
+from limit.voronoi_packing import Packing
+
+logger = logging.getLogger(__name__)
+
+_SELECTIONS = ("solver", "min_energy")
+_LP_SOLVERS = ("HIGHS", "CLARABEL")
+
+
+@dataclass(frozen=True)
+class TrescaSettings:
+    """Solver settings for :func:`solve_tresca`.
+
+    Parameters
+    ----------
+    solver : {"HIGHS", "CLARABEL"}
+        cvxpy solver for the primal LP, seed 003 Eq. (16). Default ``"CLARABEL"`` (interior point,
+        like the cvxopt solver of the paper; ``"HIGHS"`` returns simplex vertices).
+    selection : {"solver", "min_energy"}
+        Which of the (non-unique) admissible force sets to return; see the module notes.
+        Default ``"solver"`` (the paper's choice).
+    qp_solver : str
+        cvxpy solver for the ``min_energy`` quadratic program. Default ``"CLARABEL"``.
+    feas_tol : float
+        Relative tolerance of the certificates (equilibrium, friction bound, gap) above which
+        the result is rejected with :class:`LimitAnalysisError`. Default 1e-6.
+    """
+
+    solver: str = "CLARABEL"
+    selection: str = "solver"
+    qp_solver: str = "CLARABEL"
+    feas_tol: float = 1e-6
+
+    def __post_init__(self) -> None:
+        if self.solver not in _LP_SOLVERS:
+            raise ValueError(f"solver must be one of {_LP_SOLVERS}, got {self.solver!r}")
+        if self.selection not in _SELECTIONS:
+            raise ValueError(f"selection must be one of {_SELECTIONS}, got {self.selection!r}")
+        if not (0.0 < self.feas_tol < 1.0):
+            raise ValueError(f"feas_tol must lie in (0, 1), got {self.feas_tol!r}")
+
+
+@dataclass(frozen=True)
+class TrescaResult:
+    """Solution of the Tresca packing problem, seed 003 Eq. (13)-(16), with its certificate.
+
+    Forces are per unit out-of-plane thickness [N/m]; ``n_c`` cells, ``n_e`` internal edges.
+
+    Attributes
+    ----------
+    displacement : ndarray, shape (n_c, 2)
+        Primal cell translations :math:`u_c` [m]; zero (up to round-off) for a jammed packing.
+    slip : ndarray, shape (n_e,)
+        Primal slack :math:`\\tau_e \\ge |[u]_e \\cdot t_e|` [m].
+    normal_force : ndarray, shape (n_e,)
+        :math:`\\lambda_e \\ge 0` [N/m], compression positive; cell ``a`` pushes cell ``b``
+        with :math:`\\lambda_e n_e`.
+    tangential_force : ndarray, shape (n_e,)
+        :math:`f_{t,e}` [N/m]; cell ``a`` pulls cell ``b`` along :math:`t_e` with it.
+    normal_stress : ndarray, shape (n_e,)
+        :math:`\\sigma_{nn} = -\\lambda_e/|e|` [Pa], negative in compression (seed 003 Eq. 14).
+    shear_stress : ndarray, shape (n_e,)
+        :math:`f_{t,e}/|e|` [Pa], the shear traction on cell ``b``.
+    cell_load : ndarray, shape (n_c, 2)
+        External force on each cell from the boundary tractions [N/m].
+    status : str
+        cvxpy status of the LP (``"optimal"`` or ``"optimal_inaccurate"``).
+    is_inaccurate : bool
+        True when any solve returned ``optimal_inaccurate``.
+    solver, selection : str
+        As in :class:`TrescaSettings`.
+    primal_objective : float
+        Value of Eq. (16) at the returned point [J/m].
+    duality_gap : float
+        ``primal_objective`` minus the dual objective, which is 0 [J/m].
+    primal_residual : float
+        Largest violation of the LP constraints at the returned primal point [m].
+    equilibrium_residual : float
+        Largest cell force imbalance divided by the largest cell load [-].
+    friction_residual : float
+        Largest violation of :math:`\\lambda \\ge 0` and :math:`|f_t| \\le s|e|`, divided by the
+        largest cell load [-].
+    wall_s : float
+        Wall time of the solve [s].
+    """
+
+    displacement: np.ndarray
+    slip: np.ndarray
+    normal_force: np.ndarray
+    tangential_force: np.ndarray
+    normal_stress: np.ndarray
+    shear_stress: np.ndarray
+    cell_load: np.ndarray
+    status: str
+    is_inaccurate: bool
+    solver: str
+    selection: str
+    primal_objective: float
+    duality_gap: float
+    primal_residual: float
+    equilibrium_residual: float
+    friction_residual: float
+    wall_s: float
+
+
+def _check_traction(packing: Packing, traction: np.ndarray) -> np.ndarray:
+    traction = np.asarray(traction, dtype=np.float64)
+    if traction.shape != (packing.n_bnd, 2):
+        raise ValueError(
+            f"boundary traction must have shape (n_bnd, 2) = ({packing.n_bnd}, 2), "
+            f"got {traction.shape}"
+        )
+    if not np.all(np.isfinite(traction)):
+        raise ValueError("boundary traction must be finite")
+    return traction
+
+
+def _check_s(packing: Packing, s: float | np.ndarray) -> np.ndarray:
+    s_e = np.broadcast_to(np.asarray(s, dtype=np.float64), (packing.n_edges,)).copy()
+    if not np.all(np.isfinite(s_e)) or np.any(s_e < 0.0):
+        raise ValueError("Tresca threshold s must be finite and >= 0 [Pa]")
+    return s_e
+
+
+def cell_loads(packing: Packing, traction: np.ndarray) -> np.ndarray:
+    """External force on each cell, :math:`F_c = \\sum_{b \\subset \\partial c} |b|\\, g_b`.
+
+    Parameters
+    ----------
+    packing : Packing
+    traction : array_like, shape (n_bnd, 2)
+        Traction on each boundary edge [Pa].
+
+    Returns
+    -------
+    ndarray, shape (n_cells, 2)
+        [N/m].
+    """
+    traction = _check_traction(packing, traction)
+    out = np.zeros((packing.n_cells, 2))
+    np.add.at(out, packing.bnd_cell, traction * packing.bnd_length[:, None])
+    return out
+
+
+def equilibrium_matrix(packing: Packing) -> sp.csr_matrix:
+    """Matrix mapping edge forces :math:`(\\lambda, f_t)` to net interface force per cell.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix, shape (2 n_cells, 2 n_edges)
+        Row ``2c + k`` is component ``k`` of the force that the neighbours exert on cell ``c``;
+        columns are ``[lambda_0..lambda_{n_e-1}, f_t_0..f_t_{n_e-1}]``. Cell balance reads
+        ``A @ z + cell_load.ravel() = 0``.
+    """
+    n_e = packing.n_edges
+    a, b = packing.edge_cells[:, 0], packing.edge_cells[:, 1]
+    n, t = packing.edge_normal, packing.edge_tangent
+    rows, cols, vals = [], [], []
+    e = np.arange(n_e)
+    for k in range(2):
+        for cells, sign in ((b, 1.0), (a, -1.0)):
+            rows += [2 * cells + k, 2 * cells + k]
+            cols += [e, n_e + e]
+            vals += [sign * n[:, k], sign * t[:, k]]
+    return sp.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+        shape=(2 * packing.n_cells, 2 * n_e),
+    )
+
+
+def forces_from_uniform_stress(
+    packing: Packing, sigma: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Edge forces of a uniform stress field (seed 003 Sec. 4.5, the "constant stress" guess).
+
+    Parameters
+    ----------
+    packing : Packing
+    sigma : array_like, shape (2, 2)
+        Cauchy stress [Pa].
+
+    Returns
+    -------
+    normal_force, tangential_force : ndarray, shape (n_edges,)
+        :math:`\\lambda_e = -|e|\\, n_e\\cdot\\sigma n_e`, :math:`f_{t,e} = -|e|\\, t_e\\cdot\\sigma
+        n_e` [N/m], in the sign convention of :class:`TrescaResult`.
+    """
+    sigma = np.asarray(sigma, dtype=np.float64)
+    if sigma.shape != (2, 2):
+        raise ValueError(f"sigma must have shape (2, 2), got {sigma.shape}")
+    # traction on cell a's face (outward normal n_e) is sigma n_e; b receives its opposite
+    trac_a = packing.edge_normal @ sigma.T
+    lam = -packing.edge_length * np.sum(trac_a * packing.edge_normal, axis=1)
+    f_t = -packing.edge_length * np.sum(trac_a * packing.edge_tangent, axis=1)
+    return lam, f_t
+
+
+def admissibility_residuals(
+    packing: Packing,
+    traction: np.ndarray,
+    s: float | np.ndarray,
+    normal_force: np.ndarray,
+    tangential_force: np.ndarray,
+) -> tuple[float, float]:
+    """Certificate of a force set: is it equilibrated and inside the Tresca cone?
+
+    Parameters
+    ----------
+    packing : Packing
+    traction : array_like, shape (n_bnd, 2)
+        Boundary traction [Pa].
+    s : float or array_like, shape (n_edges,)
+        Tresca threshold [Pa].
+    normal_force, tangential_force : array_like, shape (n_edges,)
+        Edge forces [N/m].
+
+    Returns
+    -------
+    equilibrium_residual : float
+        ``max_c |F_c + sum of edge forces on c| / max_c |F_c|`` [-].
+    friction_residual : float
+        ``max(0, -lambda, |f_t| - s |e|) / max_c |F_c|`` [-].
+    """
+    load = cell_loads(packing, traction)
+    s_e = _check_s(packing, s)
+    z = np.concatenate([normal_force, tangential_force])
+    scale = max(float(np.max(np.linalg.norm(load, axis=1), initial=0.0)), np.finfo(float).tiny)
+    imbalance = (equilibrium_matrix(packing) @ z).reshape(-1, 2) + load
+    eq = float(np.max(np.linalg.norm(imbalance, axis=1))) / scale
+    viol = np.concatenate(
+        [[0.0], -normal_force, np.abs(tangential_force) - s_e * packing.edge_length]
+    )
+    return eq, float(np.max(viol)) / scale
+
+
+def _accept(problem: cp.Problem, what: str, hint: str) -> bool:
+    """Status map of STYLE.md: return True if inaccurate, raise unless optimal."""
+    status = problem.status
+    if status == cp.OPTIMAL:
+        return False
+    if status == cp.OPTIMAL_INACCURATE:
+        warnings.warn(f"{what}: solver returned 'optimal_inaccurate'", RuntimeWarning, stacklevel=3)
+        return True
+    raise LimitAnalysisError(f"{what}: solver status {status!r}. {hint}")
+
+
+def solve_tresca(
+    packing: Packing,
+    traction: np.ndarray,
+    s: float | np.ndarray,
+    settings: TrescaSettings | None = None,
+) -> TrescaResult:
+    """Solve seed 003 Eq. (16) and return the edge forces of its dual, with a certificate.
+
+    Parameters
+    ----------
+    packing : Packing
+        Rigid convex cells.
+    traction : array_like, shape (n_bnd, 2)
+        Neumann data :math:`g_b` on every boundary edge [Pa]; its resultant must vanish.
+    s : float or array_like, shape (n_edges,)
+        Tresca friction threshold [Pa] (seed 003 Eq. 2).
+    settings : TrescaSettings, optional
+
+    Returns
+    -------
+    TrescaResult
+
+    Raises
+    ------
+    ValueError
+        Bad shapes, non-finite data, or a traction with a non-zero resultant.
+    LimitAnalysisError
+        The LP is unbounded (no equilibrated force set respects non-interpenetration and the
+        Tresca bound: the packing is not jammed under this load), the solver fails, or the
+        returned point fails its certificate.
+    """
+    settings = settings or TrescaSettings()
+    if packing.n_edges == 0:
+        raise ValueError("packing has no internal edges")
+    traction = _check_traction(packing, traction)
+    s_e = _check_s(packing, s)
+    load = cell_loads(packing, traction)
+    scale = float(np.max(np.linalg.norm(load, axis=1), initial=0.0))
+    if scale == 0.0:
+        raise ValueError("boundary traction is zero: nothing to compute")
+    resultant = np.linalg.norm(load.sum(axis=0))
+    if resultant > 1e-9 * np.abs(load).sum():
+        raise ValueError(
+            f"boundary traction resultant must vanish (Neumann data), got |R| = {resultant:.3e} N/m"
+        )
+
+    start = time.perf_counter()
+    n_c, n_e = packing.n_cells, packing.n_edges
+    A = equilibrium_matrix(packing)
+    # constraint rows are the transposed equilibrium blocks: [u]_e . n_e and [u]_e . t_e
+    B_n = sp.csr_matrix(A[:, :n_e].T)
+    B_t = sp.csr_matrix(A[:, n_e:].T)
+    S = sp.csr_matrix(np.kron(np.ones((1, n_c)), np.eye(2)))
+    x = cp.Variable(2 * n_c)
+    tau = cp.Variable(n_e)
+    weight = s_e * packing.edge_length
+    objective = cp.Minimize(weight @ tau - load.ravel() @ x)
+    c_normal = B_n @ x >= 0
+    c_plus = tau - B_t @ x >= 0
+    c_minus = tau + B_t @ x >= 0
+    problem = cp.Problem(objective, [c_normal, c_plus, c_minus, S @ x == 0])
+    problem.solve(solver=settings.solver)
+    inaccurate = _accept(
+        problem,
+        "Tresca LP (seed 003 Eq. 16)",
+        "An unbounded LP means no force set balances the load with compression and "
+        "|f_t| <= s|e| (tensile load, or shear above the Tresca threshold).",
+    )
+    u = np.asarray(x.value)
+    slip = np.asarray(tau.value)
+    lam = np.asarray(c_normal.dual_value, dtype=np.float64)
+    f_t = np.asarray(c_minus.dual_value, dtype=np.float64) - np.asarray(c_plus.dual_value)
+
+    if settings.selection == "min_energy":
+        lam, f_t, qp_inaccurate = _min_energy_forces(packing, load, s_e, settings)
+        inaccurate = inaccurate or qp_inaccurate
+
+    jn, jt = B_n @ u, B_t @ u
+    primal_residual = float(
+        max(np.max(-jn, initial=0.0), np.max(np.abs(jt) - slip, initial=0.0),
+            np.max(np.abs(S @ u)))
+    )
+    primal_objective = float(weight @ slip - load.ravel() @ u)
+    eq_res, fr_res = admissibility_residuals(packing, traction, s_e, lam, f_t)
+    length_scale = float(np.sqrt(np.sum(packing.cell_area)))
+    gap = primal_objective - 0.0
+    wall = time.perf_counter() - start
+    tol = settings.feas_tol
+    if eq_res > tol or fr_res > tol or abs(gap) > tol * scale * length_scale:
+        raise LimitAnalysisError(
+            f"Tresca solution fails its certificate: equilibrium {eq_res:.2e}, friction "
+            f"{fr_res:.2e}, duality gap {gap:.2e} J/m (tolerance {tol:.1e})"
+        )
+    logger.info(
+        "Tresca %s/%s: %d cells, %d edges, eq %.1e, gap %.1e, %.3f s",
+        settings.solver, settings.selection, n_c, n_e, eq_res, gap, wall,
+    )
+    return TrescaResult(
+        displacement=u.reshape(n_c, 2),
+        slip=slip,
+        normal_force=lam,
+        tangential_force=f_t,
+        normal_stress=-lam / packing.edge_length,
+        shear_stress=f_t / packing.edge_length,
+        cell_load=load,
+        status=problem.status,
+        is_inaccurate=inaccurate,
+        solver=settings.solver,
+        selection=settings.selection,
+        primal_objective=primal_objective,
+        duality_gap=gap,
+        primal_residual=primal_residual,
+        equilibrium_residual=eq_res,
+        friction_residual=fr_res,
+        wall_s=wall,
+    )
+
+
+def _min_energy_forces(
+    packing: Packing, load: np.ndarray, s_e: np.ndarray, settings: TrescaSettings
+) -> tuple[np.ndarray, np.ndarray, bool]:
+    """Admissible edge forces of least weighted norm (our selection rule, see module notes)."""
+    n_e = packing.n_edges
+    A = equilibrium_matrix(packing)
+    d = packing.centres[packing.edge_cells[:, 1]] - packing.centres[packing.edge_cells[:, 0]]
+    dist = np.abs(np.sum(d * packing.edge_normal, axis=1))
+    w = dist / packing.edge_length
+    # the last cell's balance follows from the others since the resultant vanishes
+    keep = slice(0, 2 * packing.n_cells - 2)
+    lam = cp.Variable(n_e)
+    f_t = cp.Variable(n_e)
+    z = cp.hstack([lam, f_t])
+    cap = s_e * packing.edge_length
+    problem = cp.Problem(
+        cp.Minimize(0.5 * (cp.sum(cp.multiply(w, cp.square(lam) + cp.square(f_t))))),
+        [A[keep] @ z == -load.ravel()[keep], lam >= 0, cp.abs(f_t) <= cap],
+    )
+    problem.solve(solver=settings.qp_solver)
+    inaccurate = _accept(problem, "Tresca min-energy selection", "The admissible set is empty.")
+    return np.asarray(lam.value), np.asarray(f_t.value), inaccurate
+
+
+def facet_tractions(
+    packing: Packing, result: TrescaResult, traction: np.ndarray
+) -> np.ndarray:
+    """Traction :math:`\\sigma n` on every facet of every cell, from the edge forces.
+
+    Parameters
+    ----------
+    packing : Packing
+    result : TrescaResult
+    traction : array_like, shape (n_bnd, 2)
+        Boundary traction [Pa].
+
+    Returns
+    -------
+    ndarray, shape (n_facets, 2)
+        Traction on facet ``k`` of each cell with the cell's outward normal [Pa], in the order
+        of ``packing.cell_xy`` (seed 003 Eq. 14 plus the Neumann data).
+    """
+    traction = _check_traction(packing, traction)
+    force_on_b = (
+        result.normal_force[:, None] * packing.edge_normal
+        + result.tangential_force[:, None] * packing.edge_tangent
+    ) / packing.edge_length[:, None]
+    out = np.empty((len(packing.facet_edge), 2))
+    cell_of_facet = np.repeat(np.arange(packing.n_cells), np.diff(packing.cell_ptr))
+    internal = packing.facet_edge >= 0
+    e = packing.facet_edge[internal]
+    is_b = packing.edge_cells[e, 1] == cell_of_facet[internal]
+    out[internal] = np.where(is_b[:, None], force_on_b[e], -force_on_b[e])
+    out[~internal] = traction[-1 - packing.facet_edge[~internal]]
+    return out
