@@ -15,8 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from dem.geometry.clipping import polygon_properties
 from dem.geometry.interfaces import Interfaces, find_interfaces
-from dem.geometry.polyhedron import ConvexBlock, convex_block
+from dem.geometry.polyhedron import ConvexBlock, convex_block, plane_basis
 from dem.units import G
 
 DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
@@ -246,6 +247,34 @@ def proportional_to_weight(
     if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
         raise ValueError(f"load direction must be a finite non-zero 3-vector, got {direction}")
     return weight_wrench(assembly, g * d / np.linalg.norm(d))
+
+
+def uniform_pressure(
+    assembly: Assembly, direction: Sequence[float], blocks: Iterable[int] | None = None
+) -> np.ndarray:
+    """(n_blocks, 6) unit pressure (1 Pa) pushing along ``direction`` on the loaded faces.
+
+    The loaded faces of a block are those whose outward normal is ``-direction``; each gets
+    the force ``area * direction`` [N] at its centroid, moved to the block centroid.
+    """
+    d = np.asarray(direction, dtype=float)
+    if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
+        raise ValueError(f"pressure direction must be a finite non-zero 3-vector, got {direction}")
+    d = d / np.linalg.norm(d)
+    out = np.zeros((assembly.n_blocks, 6))
+    ids = range(assembly.n_blocks) if blocks is None else blocks
+    for i in ids:
+        blk = assembly.blocks[i]
+        for face, normal in zip(blk.faces, blk.normals, strict=True):
+            if normal @ d > -1.0 + 1e-9:
+                continue
+            t1, t2 = plane_basis(normal)
+            pts = blk.vertices[face]
+            area, c2, _ = polygon_properties((pts - pts[0]) @ np.stack([t1, t2]).T)
+            centre = pts[0] + c2 @ np.stack([t1, t2])
+            out[i, :3] += area * d
+            out[i, 3:] += np.cross(centre - blk.centroid, area * d)
+    return out
 
 
 def point_load(

@@ -1,0 +1,224 @@
+"""One-leaf running-bond masonry wall (seed 001, Fig. 1) with the supports used in its tests.
+
+Axes: x along the wall, y out of plane (wall mid-plane ``y = 0``), z up; the top of the
+foundation is ``z = 0``. Course ``k`` spans ``k a <= z <= (k + 1) a``. Even courses hold
+``n`` blocks of length ``b``; odd courses start and end with a half block, so the wall is
+``L = n b`` long and the head joints of consecutive courses are offset by ``b / 2``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from dem.geometry.polyhedron import convex_block
+from dem.scene import (
+    Assembly,
+    Loads,
+    Scene,
+    Supports,
+    point_load,
+    proportional_to_weight,
+    uniform_pressure,
+)
+from dem.units import KN, KN_M3, MM, G
+
+SIDES = ("bottom", "top", "left", "right")
+LIVE_LOADS = ("weight", "pressure", "none")
+OUT_OF_PLANE = 1  # index of uy among the block dofs
+
+
+def _box(x0, x1, y0, y1, z0, z1):
+    return np.array([(x, y, z) for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)])
+
+
+def course_spans(n: int, b: float, k: int) -> list[tuple[float, float]]:
+    """x ranges ``(x0, x1)`` of the blocks of course ``k`` [m]."""
+    if k % 2 == 0:
+        return [(i * b, (i + 1) * b) for i in range(n)]
+    edges = [0.0] + [b / 2 + i * b for i in range(n)] + [n * b]
+    return list(zip(edges[:-1], edges[1:], strict=True))
+
+
+def running_bond_wall(
+    n_per_course: int,
+    n_courses: int,
+    a_mm: float,
+    b_mm: float,
+    s_mm: float,
+    unit_weight_kn_m3: float,
+    mu: float | None = None,
+    base: bool = True,
+    fixed_columns: Sequence[str] = (),
+    simply_supported: Sequence[str] = (),
+    openings_mm: Sequence[tuple[float, float, float, float]] = (),
+    beam_loads_kn: Sequence[tuple[float, float]] = (),
+    live: str = "weight",
+    name: str = "running_bond_wall",
+) -> Scene:
+    """A running-bond wall of ``n_courses`` courses of ``n_per_course`` blocks.
+
+    Parameters
+    ----------
+    n_per_course, n_courses : int
+        Blocks in an even course, and number of courses.
+    a_mm, b_mm, s_mm : float
+        Block height, length and thickness [mm].
+    unit_weight_kn_m3 : float
+        Unit weight of the blocks [kN/m^3]; density = unit weight / g.
+    mu : float, optional
+        Friction coefficient of the blocks.
+    base : bool
+        Add a fixed foundation block (the wall's length and thickness, height ``a``) under
+        the first course.
+    fixed_columns : subset of {"left", "right"}
+        Fix the end block of every course on that side (the seed's model of return walls).
+    simply_supported : subset of {"bottom", "top", "left", "right"}
+        Restrain the out-of-plane translation ``uy`` of the blocks along that edge (first
+        course, last course, or the end block of every course).
+    openings_mm : sequence of (x0, z0, x1, z1)
+        Rectangular openings [mm]; ``z0`` and ``z1`` must lie on bed joints. Blocks crossing an
+        opening's vertical edges are cut there (cut bricks).
+    beam_loads_kn : sequence of (x, force)
+        Dead downward forces [kN] at ``x`` [mm] on top of the wall (beams), applied to the top
+        block under ``x`` at the middle of its top face.
+    live : {"weight", "pressure", "none"}
+        Live load scaled by lambda: each free block's weight acting along +y
+        (lambda dimensionless), or a uniform pressure on the face ``y = -s/2`` pushing along
+        +y (lambda in Pa).
+
+    Returns
+    -------
+    Scene
+        Wall blocks first, course by course from the left, then the foundation.
+        ``meta["course"]`` gives each block's course (-1 for the foundation).
+    """
+    n, nc = int(n_per_course), int(n_courses)
+    if n != n_per_course or n < 1 or nc != n_courses or nc < 1:
+        raise ValueError(
+            f"n_per_course and n_courses must be positive integers, got {n_per_course}, {n_courses}"
+        )
+    for label, v in (
+        ("a_mm", a_mm),
+        ("b_mm", b_mm),
+        ("s_mm", s_mm),
+        ("unit_weight_kn_m3", unit_weight_kn_m3),
+    ):
+        if not np.isfinite(v) or v <= 0:
+            raise ValueError(f"{label} must be positive and finite, got {v}")
+    bad = set(fixed_columns) - {"left", "right"}
+    if bad:
+        raise ValueError(f"fixed_columns must be a subset of ('left', 'right'), got {sorted(bad)}")
+    bad = set(simply_supported) - set(SIDES)
+    if bad:
+        raise ValueError(f"simply_supported must be a subset of {SIDES}, got {sorted(bad)}")
+    if live not in LIVE_LOADS:
+        raise ValueError(f"live must be one of {LIVE_LOADS}, got {live!r}")
+
+    a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
+    length, height = n * b, nc * a
+    openings = []
+    for x0, z0, x1, z1 in openings_mm:
+        x0, z0, x1, z1 = x0 * MM, z0 * MM, x1 * MM, z1 * MM
+        if not (0 <= x0 < x1 <= length and 0 <= z0 < z1 <= height):
+            raise ValueError(
+                f"opening {(x0 / MM, z0 / MM, x1 / MM, z1 / MM)} mm is not inside the wall"
+            )
+        for z in (z0, z1):
+            if abs(z / a - round(z / a)) > 1e-9:
+                raise ValueError(
+                    f"opening edge z = {z / MM} mm is not on a bed joint (multiple of a)"
+                )
+        openings.append((x0, round(z0 / a), x1, round(z1 / a)))
+
+    tiny = 1e-9 * b
+    corners, course, ends = [], [], []
+    for k in range(nc):
+        spans = course_spans(n, b, k)
+        for x0, x1, k0, k1 in openings:
+            if k0 <= k < k1:
+                cut = []
+                for xl, xr in spans:
+                    if xr <= x0 + tiny or xl >= x1 - tiny:
+                        cut.append((xl, xr))
+                        continue
+                    if x0 - xl > tiny:
+                        cut.append((xl, x0))
+                    if xr - x1 > tiny:
+                        cut.append((x1, xr))
+                spans = cut
+        first = len(corners)
+        for xl, xr in spans:
+            corners.append(_box(xl, xr, -s / 2, s / 2, k * a, (k + 1) * a))
+            course.append(k)
+        ends.append((first, len(corners) - 1) if spans else None)
+    n_wall = len(corners)
+    if base:
+        corners.append(_box(0.0, length, -s / 2, s / 2, -a, 0.0))
+        course.append(-1)
+
+    density = unit_weight_kn_m3 * KN_M3 / G
+    assembly = Assembly(tuple(convex_block(c) for c in corners), density, mu)
+    n_blocks = assembly.n_blocks
+    fixed = np.zeros(n_blocks, dtype=bool)
+    restrained = np.zeros((n_blocks, 6), dtype=bool)
+    if base:
+        fixed[n_wall] = True
+    course_arr = np.array(course)
+    edge_blocks = {
+        "bottom": np.flatnonzero(course_arr == 0),
+        "top": np.flatnonzero(course_arr == nc - 1),
+        "left": np.array([e[0] for e in ends if e is not None]),
+        "right": np.array([e[1] for e in ends if e is not None]),
+    }
+    for side in fixed_columns:
+        fixed[edge_blocks[side]] = True
+    for side in simply_supported:
+        restrained[edge_blocks[side], OUT_OF_PLANE] = True
+    restrained[fixed] = False
+    supports = Supports(fixed, restrained)
+
+    free = np.flatnonzero(~fixed)
+    if live == "weight":
+        live_wrench = proportional_to_weight(assembly, (0.0, 1.0, 0.0))
+    elif live == "pressure":
+        live_wrench = uniform_pressure(assembly, (0.0, 1.0, 0.0), free)
+    else:
+        live_wrench = np.zeros((n_blocks, 6))
+    live_wrench[fixed] = 0.0
+
+    dead = np.zeros((n_blocks, 6))
+    for x_mm, force_kn in beam_loads_kn:
+        x = x_mm * MM
+        top = [i for i in range(n_wall) if course[i] == course_arr[:n_wall].max()]
+        hit = [
+            i
+            for i in top
+            if assembly.blocks[i].vertices[:, 0].min()
+            <= x
+            <= assembly.blocks[i].vertices[:, 0].max()
+        ]
+        if not hit:
+            raise ValueError(f"beam load at x = {x_mm} mm is not above any top block")
+        z_top = assembly.blocks[hit[0]].vertices[:, 2].max()
+        dead += point_load(assembly, hit[0], (x, 0.0, z_top), (0.0, 0.0, -force_kn * KN))
+
+    loads = Loads(np.array([0.0, 0.0, -G]), dead, live_wrench)
+    meta = {
+        "builder": "running_bond_wall",
+        "n_per_course": n,
+        "n_courses": nc,
+        "a_mm": a_mm,
+        "b_mm": b_mm,
+        "s_mm": s_mm,
+        "unit_weight_kn_m3": unit_weight_kn_m3,
+        "base": base,
+        "fixed_columns": list(fixed_columns),
+        "simply_supported": list(simply_supported),
+        "openings_mm": [list(o) for o in openings_mm],
+        "beam_loads_kn": [list(p) for p in beam_loads_kn],
+        "live": live,
+        "course": course,
+    }
+    return Scene(assembly, supports, loads, name, meta)
