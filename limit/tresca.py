@@ -459,3 +459,107 @@ def facet_tractions(
     out[internal] = np.where(is_b[:, None], force_on_b[e], -force_on_b[e])
     out[~internal] = traction[-1 - packing.facet_edge[~internal]]
     return out
+
+
+@dataclass(frozen=True)
+class TrescaMultiplierResult:
+    """Largest multiplier of a live traction that the packing carries (lower-bound LP).
+
+    Attributes
+    ----------
+    load_multiplier : float
+        :math:`\\alpha^*` [-]: the traction ``dead + alpha * live`` is admissible iff
+        ``alpha <= alpha^*``.
+    normal_force, tangential_force : ndarray, shape (n_edges,)
+        An admissible force set at :math:`\\alpha^*` [N/m], sign convention of
+        :class:`TrescaResult`.
+    status : str
+        cvxpy status.
+    is_inaccurate : bool
+        True if the solver returned ``optimal_inaccurate``.
+    equilibrium_residual : float
+        Certificate, as in :class:`TrescaResult` [-].
+    wall_s : float
+        [s].
+    """
+
+    load_multiplier: float
+    normal_force: np.ndarray
+    tangential_force: np.ndarray
+    status: str
+    is_inaccurate: bool
+    equilibrium_residual: float
+    wall_s: float
+
+
+def max_load_multiplier(
+    packing: Packing,
+    dead_traction: np.ndarray,
+    live_traction: np.ndarray,
+    s: float | np.ndarray,
+    settings: TrescaSettings | None = None,
+) -> TrescaMultiplierResult:
+    """Maximise :math:`\\alpha` such that ``dead + alpha * live`` has an admissible force set.
+
+    The static (lower-bound) form of the dual of seed 003 Eq. (16) with a load multiplier:
+    :math:`\\max \\alpha` s.t. :math:`A z + F_{dead} + \\alpha F_{live} = 0`,
+    :math:`\\lambda \\ge 0`, :math:`|f_t| \\le s|e|`.
+
+    Parameters
+    ----------
+    packing : Packing
+    dead_traction, live_traction : array_like, shape (n_bnd, 2)
+        Boundary tractions [Pa], each with zero resultant.
+    s : float or array_like, shape (n_edges,)
+        Tresca threshold [Pa].
+    settings : TrescaSettings, optional
+        Only ``solver`` and ``feas_tol`` are used.
+
+    Returns
+    -------
+    TrescaMultiplierResult
+
+    Raises
+    ------
+    LimitAnalysisError
+        Unbounded (the live load never fails the packing) or infeasible (the dead load alone
+        is not admissible), or any other non-optimal status.
+    """
+    settings = settings or TrescaSettings()
+    s_e = _check_s(packing, s)
+    dead = cell_loads(packing, dead_traction)
+    live = cell_loads(packing, live_traction)
+    for name, load in (("dead traction", dead), ("live traction", live)):
+        if np.linalg.norm(load.sum(axis=0)) > 1e-9 * max(np.abs(load).sum(), 1e-300):
+            raise ValueError(f"{name} resultant must vanish")
+    start = time.perf_counter()
+    n_e = packing.n_edges
+    A = equilibrium_matrix(packing)
+    keep = slice(0, 2 * packing.n_cells - 2)
+    lam = cp.Variable(n_e)
+    f_t = cp.Variable(n_e)
+    alpha = cp.Variable()
+    problem = cp.Problem(
+        cp.Maximize(alpha),
+        [
+            A[keep] @ cp.hstack([lam, f_t]) + dead.ravel()[keep] + alpha * live.ravel()[keep] == 0,
+            lam >= 0,
+            cp.abs(f_t) <= s_e * packing.edge_length,
+        ],
+    )
+    problem.solve(solver=settings.solver)
+    inaccurate = _accept(problem, "Tresca load multiplier", "Unbounded: the live load never fails.")
+    a_star = float(alpha.value)
+    traction = np.asarray(dead_traction) + a_star * np.asarray(live_traction)
+    eq, _ = admissibility_residuals(packing, traction, s_e, lam.value, f_t.value)
+    if eq > settings.feas_tol:
+        raise LimitAnalysisError(f"load multiplier fails its equilibrium certificate: {eq:.2e}")
+    return TrescaMultiplierResult(
+        load_multiplier=a_star,
+        normal_force=np.asarray(lam.value),
+        tangential_force=np.asarray(f_t.value),
+        status=problem.status,
+        is_inaccurate=inaccurate,
+        equilibrium_residual=eq,
+        wall_s=time.perf_counter() - start,
+    )

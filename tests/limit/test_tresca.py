@@ -141,3 +141,20 @@ def test_bad_seeds_and_loads():
         solve_tresca(packing, uniform_stress_traction(packing, -np.eye(2)), -1.0)
     with pytest.raises(ValueError, match="solver"):
         TrescaSettings(solver="GLPK")
+
+
+@pytest.mark.parametrize("solver", ["HIGHS", "CLARABEL"])
+def test_brick_wall_shear_multiplier_closed_form(solver):
+    # closed form: alpha* = s / 1 Pa (a full-width bed joint carries at most s per unit length)
+    from limit.tresca import max_load_multiplier
+
+    s = 0.7
+    wall = brick_wall_packing(n_courses=5, bricks_per_course=3, brick_length=0.2, brick_height=0.1)
+    res = max_load_multiplier(
+        wall,
+        uniform_stress_traction(wall, -np.eye(2)),
+        uniform_stress_traction(wall, [[0.0, 1.0], [1.0, 0.0]]),
+        s,
+        TrescaSettings(solver=solver),
+    )
+    np.testing.assert_allclose(res.load_multiplier, s, rtol=1e-7)
