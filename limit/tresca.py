@@ -63,6 +63,10 @@ class TrescaSettings:
         Default ``"solver"`` (the paper's choice).
     qp_solver : str
         cvxpy solver for the ``min_energy`` quadratic program. Default ``"CLARABEL"``.
+    qp_tol : float
+        Gap and feasibility tolerances passed to Clarabel for the ``min_energy`` QP. The
+        weights :math:`d_e/|e|` span orders of magnitude on random Voronoi cells (tiny edges),
+        and Clarabel's defaults (1e-8) leave ~1e-6 relative error on the forces. Default 1e-12.
     feas_tol : float
         Relative tolerance of the certificates (equilibrium, friction bound, gap) above which
         the result is rejected with :class:`LimitAnalysisError`. Default 1e-6.
@@ -71,6 +75,7 @@ class TrescaSettings:
     solver: str = "CLARABEL"
     selection: str = "solver"
     qp_solver: str = "CLARABEL"
+    qp_tol: float = 1e-12
     feas_tol: float = 1e-6
 
     def __post_init__(self) -> None:
@@ -78,6 +83,8 @@ class TrescaSettings:
             raise ValueError(f"solver must be one of {_LP_SOLVERS}, got {self.solver!r}")
         if self.selection not in _SELECTIONS:
             raise ValueError(f"selection must be one of {_SELECTIONS}, got {self.selection!r}")
+        if not (0.0 < self.qp_tol < 1.0):
+            raise ValueError(f"qp_tol must lie in (0, 1), got {self.qp_tol!r}")
         if not (0.0 < self.feas_tol < 1.0):
             raise ValueError(f"feas_tol must lie in (0, 1), got {self.feas_tol!r}")
 
@@ -423,7 +430,10 @@ def _min_energy_forces(
         cp.Minimize(0.5 * (cp.sum(cp.multiply(w, cp.square(lam) + cp.square(f_t))))),
         [A[keep] @ z == -load.ravel()[keep], lam >= 0, cp.abs(f_t) <= cap],
     )
-    problem.solve(solver=settings.qp_solver)
+    options = {}
+    if settings.qp_solver == "CLARABEL":
+        options = {k: settings.qp_tol for k in ("tol_gap_abs", "tol_gap_rel", "tol_feas")}
+    problem.solve(solver=settings.qp_solver, **options)
     inaccurate = _accept(problem, "Tresca min-energy selection", "The admissible set is empty.")
     return np.asarray(lam.value), np.asarray(f_t.value), inaccurate
 
