@@ -21,12 +21,23 @@ def discover_cases() -> dict[str, Callable]:
     """
     cases: dict[str, Callable] = {}
     for info in sorted(pkgutil.iter_modules(validation.cases.__path__), key=lambda m: m.name):
-        module = importlib.import_module(f"validation.cases.{info.name}")
+        try:
+            module = importlib.import_module(f"validation.cases.{info.name}")
+        except Exception as exc:  # a broken module must not hide the other cases
+            cases[f"{info.name} (import failed)"] = _failed_import(info.name, exc)
+            continue
         for name, run in getattr(module, "CASES", {}).items():
             if name in cases:
                 raise RuntimeError(f"validation case {name!r} is defined twice")
             cases[name] = run
     return cases
+
+
+def _failed_import(module: str, exc: Exception) -> Callable:
+    def run(quick: bool):
+        raise RuntimeError(f"validation.cases.{module} failed to import: {exc!r}") from exc
+
+    return run
 
 
 CASES = discover_cases()

@@ -130,7 +130,7 @@ def running_bond_wall(
                 raise ValueError(
                     f"opening edge z = {z / MM} mm is not on a bed joint (multiple of a)"
                 )
-        openings.append((x0, round(z0 / a), x1, round(z1 / a)))
+        openings.append((x0, x1, round(z0 / a), round(z1 / a)))
 
     tiny = 1e-9 * b
     corners, course, ends = [], [], []

@@ -1,0 +1,71 @@
+"""Interfaces from geometry: exact polygons, frames, moments, broad phase, overlaps."""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from dem.geometry.interfaces import OverlapError, candidate_pairs, find_interfaces
+from dem.geometry.polyhedron import convex_block
+from tests.conftest import box_corners
+
+
+def test_offset_boxes_share_the_overlap_rectangle():
+    # top face [0,2]x[0,1] against bottom face [0.5,3]x[0.25,2]: overlap 1.5 x 0.75 at z = 1
+    low = convex_block(box_corners((0, 0, 0), (2, 1, 1)))
+    high = convex_block(box_corners((0.5, 0.25, 1), (3, 2, 2)))
+    iface = find_interfaces([low, high])
+    assert iface.n_interfaces == 1
+    w, h = 1.5, 0.75
+    np.testing.assert_allclose(iface.area, [w * h], rtol=1e-12)
+    np.testing.assert_allclose(iface.centroid[0], [1.25, 0.625, 1.0], rtol=1e-12)
+    np.testing.assert_allclose(iface.frame[0, 0], [0, 0, 1], atol=1e-15)  # from block 0 to 1
+    np.testing.assert_allclose(np.linalg.det(iface.frame[0]), 1.0, rtol=1e-12)
+    # frame of a horizontal plane: t1 along x, t2 along y; J11 = int y1^2 = h w^3 / 12
+    np.testing.assert_allclose(
+        iface.second_moments[0], [h * w**3 / 12, w * h**3 / 12, 0], atol=1e-15
+    )
+    np.testing.assert_allclose(iface.polar_moment, [w * h * (w * w + h * h) / 12], rtol=1e-12)
+
+
+def test_interfaces_move_with_a_rigid_motion():
+    rot = Rotation.from_rotvec([0.4, -0.2, 0.9]).as_matrix()
+    shift = np.array([3.0, -1.0, 7.0])
+    blocks = [
+        convex_block(box_corners((0, 0, 0), (1, 1, 1))),
+        convex_block(box_corners((0, 0, 1), (1, 1, 2))),
+    ]
+    ref = find_interfaces(blocks)
+    moved = find_interfaces([b.transformed(rot, shift) for b in blocks])
+    np.testing.assert_allclose(moved.area, ref.area, rtol=1e-12)
+    np.testing.assert_allclose(moved.centroid, ref.centroid @ rot.T + shift, atol=1e-12)
+    np.testing.assert_allclose(moved.frame[:, 0], ref.frame[:, 0] @ rot.T, atol=1e-12)
+    np.testing.assert_allclose(moved.polar_moment, ref.polar_moment, rtol=1e-10)
+
+
+def test_touching_edges_or_corners_are_no_interface():
+    a = convex_block(box_corners((0, 0, 0), (1, 1, 1)))
+    edge = convex_block(box_corners((1, 1, 0), (2, 2, 1)))  # shares only an edge
+    far = convex_block(box_corners((0, 0, 1.5), (1, 1, 2)))  # parallel, 0.5 apart
+    assert find_interfaces([a, edge, far]).n_interfaces == 0
+
+
+def test_overlapping_blocks_are_reported_with_pair_and_depth():
+    blocks = [
+        convex_block(box_corners((0, 0, 0), (1, 1, 1))),
+        convex_block(box_corners((5, 0, 0), (6, 1, 1))),
+        convex_block(box_corners((0.7, 0, 0), (1.7, 1, 1))),
+    ]
+    with pytest.raises(OverlapError, match=r"blocks 0 and 2 by 3\.000e-01 m") as info:
+        find_interfaces(blocks)
+    ((i, j, depth),) = info.value.overlaps
+    assert (i, j) == (0, 2) and depth == pytest.approx(0.3)
+
+
+def test_sort_and_sweep_matches_brute_force():
+    rng = np.random.default_rng(7)
+    lo = rng.uniform(0, 10, size=(300, 3))
+    hi = lo + rng.uniform(0.1, 1.5, size=(300, 3))
+    fast = {tuple(p) for p in candidate_pairs(lo, hi, 0.0)}
+    overlap = np.all((lo[:, None] <= hi[None]) & (hi[:, None] >= lo[None]), axis=2)
+    brute = {(i, j) for i, j in zip(*np.nonzero(np.triu(overlap, 1)), strict=True)}
+    assert fast == brute and len(brute) > 0
