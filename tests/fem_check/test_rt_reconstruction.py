@@ -84,3 +84,20 @@ def test_bad_inputs():
     outside[1] = [5.0, 5.0]
     with pytest.raises(ValueError, match="centre"):
         reconstruct_stress(cell_ptr, cell_xy, outside, traction)
+
+
+def test_lp_forces_to_rt_recover_uniform_stress():
+    # closed form: on a Voronoi packing the min-energy forces of a uniform load are those of the
+    # uniform stress (Voronoi edges are normal to the seed-seed vector), so RT0 recovers sigma0
+    from limit.tresca import TrescaSettings, facet_tractions, solve_tresca
+    from limit.voronoi_packing import uniform_stress_traction, voronoi_packing
+
+    sigma0 = np.array([[-1.5, 0.2], [0.2, -1.0]])
+    packing = voronoi_packing(15, 1.0, 1.0, seed=11)
+    traction = uniform_stress_traction(packing, sigma0)
+    res = solve_tresca(packing, traction, 10.0, TrescaSettings(selection="min_energy"))
+    rec = reconstruct_stress(
+        packing.cell_ptr, packing.cell_xy, packing.centres, facet_tractions(packing, res, traction)
+    )
+    np.testing.assert_allclose(rec.cell_stress, np.broadcast_to(sigma0, rec.cell_stress.shape),
+                               atol=1e-7)
