@@ -1,0 +1,211 @@
+"""Running-bond wall with return walls built as real blocks (L- or U-shaped assemblies).
+
+Seed 001 (Sec. 3.2) models the return walls of the Restrepo-Velez specimens by fixing a column
+of blocks and blames that over-restraint for part of its mismatch. This builder offers the
+alternative: the orthogonal walls are blocks that interlock with the main wall course by course
+(corner bond), so a mechanism may drag blocks of the return walls along.
+
+Axes as in :mod:`dem.scenes.running_bond_wall`: x along the main wall (``0 <= x <= L = n b``),
+y out of plane (main wall ``-s/2 <= y <= s/2``), z up, foundation top at ``z = 0``. A return wall
+at the left (right) end occupies ``0 <= x <= b/2`` (``L - b/2 <= x <= L``) and runs towards
+``-y`` (behind the loaded face, as the side walls of a building stand behind a facade that falls
+outward). Corner bond:
+
+- even courses: the main wall's full end block covers the corner; the return wall starts
+  behind it at ``y = -s/2``;
+- odd courses: the return wall's end block covers the corner (``s/2 - b <= y <= s/2``) in place
+  of the main wall's half block, so the head joints of the return wall are staggered by
+  ``b - s``.
+
+The return-wall blocks are ``b/2`` thick (instead of ``s``) so that the corner block of an odd
+course fills exactly the half-block slot of the main wall; for the Restrepo-Velez blocks
+(``b/2 = 39.89`` mm, ``s = 39.68`` mm) this thickens the return walls by 0.5 %.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from dem.geometry.polyhedron import convex_block
+from dem.scene import Assembly, Loads, Scene, Supports, point_load, proportional_to_weight
+from dem.units import KN, KN_M3, MM, G
+
+SIDES = ("left", "right")
+WALL_MAIN, WALL_LEFT, WALL_RIGHT, WALL_BASE = 0, 1, 2, -1
+
+
+def _box(x0, x1, y0, y1, z0, z1):
+    return np.array([(x, y, z) for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)])
+
+
+def wall_with_returns(
+    n_per_course: int,
+    n_courses: int,
+    a_mm: float,
+    b_mm: float,
+    s_mm: float,
+    unit_weight_kn_m3: float,
+    mu: float | None = None,
+    returns: Sequence[str] = ("left",),
+    return_blocks: int = 3,
+    beam_loads_kn: Sequence[tuple[float, float]] = (),
+    openings_mm: Sequence[tuple[float, float, float, float]] = (),
+    name: str = "wall_with_returns",
+) -> Scene:
+    """A running-bond wall with one or two return walls made of blocks, on a fixed foundation.
+
+    Parameters
+    ----------
+    n_per_course, n_courses : int
+        Blocks in an even course of the main wall and number of courses.
+    a_mm, b_mm, s_mm : float
+        Block height, length and thickness [mm].
+    unit_weight_kn_m3 : float
+        Unit weight of the blocks [kN/m^3].
+    mu : float, optional
+        Friction coefficient of the blocks.
+    returns : subset of {"left", "right"}
+        Ends of the main wall that carry a return wall ("left" gives an L, both a U).
+    return_blocks : int
+        Length of each return wall behind the main wall, in blocks (an even course holds this
+        many full blocks behind the corner).
+    beam_loads_kn : sequence of (x, force)
+        Dead downward forces [kN] at ``x`` [mm] on the top course of the main wall.
+    openings_mm : sequence of (x0, z0, x1, z1)
+        Rectangular openings in the main wall [mm], edges ``z`` on bed joints; blocks crossing
+        a vertical edge are cut there. Openings must stay clear of the corners.
+
+    Returns
+    -------
+    Scene
+        Main-wall blocks, then return-wall blocks, then the foundation (one fixed box under the
+        whole footprint). The live load is every free block's weight along +y (a tilting
+        table). ``meta["wall"]`` labels blocks 0 (main), 1 (left return), 2 (right return),
+        -1 (foundation); ``meta["course"]`` gives the course (-1 for the foundation).
+    """
+    n, nc, nr = int(n_per_course), int(n_courses), int(return_blocks)
+    if n != n_per_course or n < 2 or nc != n_courses or nc < 1:
+        raise ValueError(
+            f"n_per_course >= 2 and n_courses >= 1 must be integers, got {n_per_course}, "
+            f"{n_courses}"
+        )
+    if nr != return_blocks or nr < 1:
+        raise ValueError(f"return_blocks must be a positive integer, got {return_blocks}")
+    bad = set(returns) - set(SIDES)
+    if bad or not returns:
+        raise ValueError(f"returns must be a non-empty subset of {SIDES}, got {list(returns)}")
+    for label, v in (
+        ("a_mm", a_mm),
+        ("b_mm", b_mm),
+        ("s_mm", s_mm),
+        ("unit_weight_kn_m3", unit_weight_kn_m3),
+    ):
+        if not np.isfinite(v) or v <= 0:
+            raise ValueError(f"{label} must be positive and finite, got {v}")
+    a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
+    if s >= b:
+        raise ValueError(f"the corner bond needs s < b, got s = {s_mm} mm, b = {b_mm} mm")
+    length, height = n * b, nc * a
+    half = b / 2
+    openings = []
+    for x0, z0, x1, z1 in openings_mm:
+        x0, z0, x1, z1 = x0 * MM, z0 * MM, x1 * MM, z1 * MM
+        if not (b <= x0 < x1 <= length - b and 0 <= z0 < z1 <= height):
+            raise ValueError(
+                f"opening {(x0 / MM, z0 / MM, x1 / MM, z1 / MM)} mm is not inside the main "
+                "wall clear of the corners"
+            )
+        for z in (z0, z1):
+            if abs(z / a - round(z / a)) > 1e-9:
+                raise ValueError(f"opening edge z = {z / MM} mm is not on a bed joint")
+        openings.append((x0, x1, round(z0 / a), round(z1 / a)))
+
+    tiny = 1e-9 * b
+    corners, course, wall = [], [], []
+    for k in range(nc):
+        z0, z1 = k * a, (k + 1) * a
+        if k % 2 == 0:
+            spans = [(i * b, (i + 1) * b) for i in range(n)]
+        else:
+            edges = [0.0] + [half + i * b for i in range(n)] + [length]
+            spans = list(zip(edges[:-1], edges[1:], strict=True))
+            # the half blocks at the corners are replaced by the return walls' end blocks
+            if "left" in returns:
+                spans = spans[1:]
+            if "right" in returns:
+                spans = spans[:-1]
+        for x0, x1, k0, k1 in openings:
+            if k0 <= k < k1:
+                cut = []
+                for xl, xr in spans:
+                    if xr <= x0 + tiny or xl >= x1 - tiny:
+                        cut.append((xl, xr))
+                        continue
+                    if x0 - xl > tiny:
+                        cut.append((xl, x0))
+                    if xr - x1 > tiny:
+                        cut.append((x1, xr))
+                spans = cut
+        for xl, xr in spans:
+            corners.append(_box(xl, xr, -s / 2, s / 2, z0, z1))
+            course.append(k)
+            wall.append(WALL_MAIN)
+    y_min = -s / 2 - nr * b
+    for side in returns:
+        xl, xr = (0.0, half) if side == "left" else (length - half, length)
+        label = WALL_LEFT if side == "left" else WALL_RIGHT
+        for k in range(nc):
+            z0, z1 = k * a, (k + 1) * a
+            if k % 2 == 0:
+                edges = [-s / 2 - i * b for i in range(nr + 1)]
+            else:
+                edges = [s / 2 - i * b for i in range(nr + 1)]
+                edges[-1] = max(edges[-1], y_min)
+            for y_hi, y_lo in zip(edges[:-1], edges[1:], strict=True):
+                corners.append(_box(xl, xr, y_lo, y_hi, z0, z1))
+                course.append(k)
+                wall.append(label)
+    n_wall = len(corners)
+    corners.append(_box(0.0, length, y_min, s / 2, -a, 0.0))
+    course.append(-1)
+    wall.append(WALL_BASE)
+
+    density = unit_weight_kn_m3 * KN_M3 / G
+    assembly = Assembly(tuple(convex_block(c) for c in corners), density, mu)
+    n_blocks = assembly.n_blocks
+    fixed = np.zeros(n_blocks, dtype=bool)
+    fixed[n_wall] = True
+    supports = Supports(fixed, np.zeros((n_blocks, 6), dtype=bool))
+    live = proportional_to_weight(assembly, (0.0, 1.0, 0.0))
+    live[fixed] = 0.0
+    dead = np.zeros((n_blocks, 6))
+    course_arr, wall_arr = np.array(course), np.array(wall)
+    top = np.flatnonzero((course_arr == nc - 1) & (wall_arr == WALL_MAIN))
+    for x_mm, force_kn in beam_loads_kn:
+        x = x_mm * MM
+        xs = [assembly.blocks[i].vertices[:, 0] for i in top]
+        hit = [i for i, xv in zip(top, xs, strict=True) if xv.min() <= x <= xv.max()]
+        if not hit:
+            raise ValueError(f"beam load at x = {x_mm} mm is not above any top block")
+        dead += point_load(assembly, hit[0], (x, 0.0, height), (0.0, 0.0, -force_kn * KN))
+    loads = Loads(np.array([0.0, 0.0, -G]), dead, live)
+    meta = {
+        "builder": "wall_with_returns",
+        "n_per_course": n,
+        "n_courses": nc,
+        "a_mm": a_mm,
+        "b_mm": b_mm,
+        "s_mm": s_mm,
+        "unit_weight_kn_m3": unit_weight_kn_m3,
+        "returns": list(returns),
+        "return_blocks": nr,
+        "return_thickness_mm": half / MM,
+        "openings_mm": [list(o) for o in openings_mm],
+        "beam_loads_kn": [list(p) for p in beam_loads_kn],
+        "live": "weight",
+        "course": course,
+        "wall": wall,
+    }
+    return Scene(assembly, supports, loads, name, meta)
