@@ -19,7 +19,7 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import Voronoi
+from scipy.spatial import Voronoi, cKDTree
 
 logger = logging.getLogger(__name__)
 
@@ -199,9 +199,8 @@ def voronoi_packing_from_seeds(seeds: np.ndarray, width: float, height: float) -
         raise ValueError(f"seeds must lie strictly inside the rectangle; {np.sum(~inside)} do not")
     size = max(width, height)
     tol = GEOMETRY_RTOL * size
-    dist = np.linalg.norm(seeds[:, None, :] - seeds[None, :, :], axis=2)
-    dist[np.diag_indices(n_cells)] = np.inf
-    if dist.min() <= 1e3 * tol:
+    nearest, _ = cKDTree(seeds).query(seeds, k=2)
+    if nearest[:, 1].min() <= 1e3 * tol:
         raise ValueError("seeds must be pairwise distinct")
 
     mirrored = [seeds]
@@ -377,14 +376,21 @@ def packing_from_polygons(
         raise ValueError(f"centres of cells {bad.tolist()} are not strictly inside their polygons")
 
     # pairs of sides with opposite normals on the same line
-    anti = side_n @ side_n.T < -1.0 + 1e-9
-    offset = np.abs(np.einsum("jk,ik->ij", side_p0, side_n) - np.sum(side_p0 * side_n, 1)[:, None])
-    same_line = anti & (offset <= tol) & (side_cell[:, None] != side_cell[None, :])
+    # candidates: overlapping sides have midpoints closer than the longest side (KD-tree keeps
+    # memory linear in the number of sides instead of an all-pairs matrix)
+    mid = 0.5 * (side_p0 + side_p1)
+    pairs = cKDTree(mid).query_pairs(r=float(side_len.max()) + tol, output_type="ndarray")
+    i_all, j_all = pairs[:, 0], pairs[:, 1]
+    anti = np.sum(side_n[i_all] * side_n[j_all], axis=1) < -1.0 + 1e-9
+    offset = np.abs(np.sum((side_p0[j_all] - side_p0[i_all]) * side_n[i_all], axis=1))
+    same_line = anti & (offset <= tol) & (side_cell[i_all] != side_cell[j_all])
+    i_all, j_all = i_all[same_line], j_all[same_line]
+    swap = side_cell[i_all] > side_cell[j_all]
+    i_all, j_all = np.where(swap, j_all, i_all), np.where(swap, i_all, j_all)
+    order = np.lexsort((j_all, i_all))
     pieces: list[list[tuple[float, float, int]]] = [[] for _ in range(len(side_len))]
     edges = []  # (cell_a, cell_b, p0, p1, normal a->b)
-    for i, j in zip(*np.nonzero(same_line), strict=True):
-        if side_cell[i] > side_cell[j]:
-            continue
+    for i, j in zip(i_all[order], j_all[order], strict=True):
         # parameters of side j's end points along side i
         s = (np.stack([side_p0[j], side_p1[j]]) - side_p0[i]) @ side_t[i]
         lo, hi = max(0.0, float(s.min())), min(float(side_len[i]), float(s.max()))
