@@ -372,6 +372,11 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
         "the moment M_c of a cell's tractions is generally non-zero; with exact weak symmetry "
         "Green's identity forces int_c (x-C) x div sigma = M_c, so div sigma cannot vanish "
         "(the Green-identity row checks this to round-off). "
+        "Raw-dual rows of the verification meshes use the paper's result (sigma = -I, seed "
+        "003 Figs. 6b, 7b) as reference: our interior-point duals reach it on four cells "
+        "(~2e-10) but only to ~8e-5 on five cells, whose contact graph has a self-stress "
+        "(the paper's solver choice among admissible forces is not reproducible); the "
+        "min-energy rows reach it to round-off. "
         f"Fields for the figures: {Path(FIELDS_NPZ).name}."
     )
     return rows, notes
