@@ -163,7 +163,7 @@ def find_interfaces(
     for i, j in pairs:
         a, b = blocks[i], blocks[j]
         if check_overlaps:
-            depth = penetration_depth(a, b)
+            depth = penetration_depth(a, b, tol)
             if depth > tol:
                 overlaps.append((int(i), int(j), depth))
                 continue

@@ -8,6 +8,7 @@ outward unit normal ``n`` and plane offset ``d`` (points ``x`` of the face satis
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
@@ -54,7 +55,7 @@ class ConvexBlock:
         """Diagonal of the axis-aligned bounding box [m]."""
         return float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
 
-    @property
+    @cached_property
     def edges(self) -> np.ndarray:
         """(n_edges, 2) int vertex index pairs, each edge once."""
         pairs = np.concatenate([np.column_stack([f, np.roll(f, -1)]) for f in self.faces])
@@ -232,22 +233,32 @@ def mass_properties(
     return volume, centroid_rel + origin, inertia
 
 
-def penetration_depth(a: ConvexBlock, b: ConvexBlock) -> float:
+def penetration_depth(a: ConvexBlock, b: ConvexBlock, tol: float = 0.0) -> float:
     """Depth of interpenetration of two convex blocks by the separating axis theorem [m].
 
     The smallest overlap of the two blocks' projections over all candidate axes (face
-    normals of both, cross products of edge directions). Zero or negative when the blocks
-    are separated or merely touch.
+    normals of both, cross products of edge directions). At most ``tol`` when the blocks are
+    separated or merely touch: once a face normal shows an overlap of at most ``tol`` the
+    edge axes are skipped, and that overlap is returned.
     """
+    face_axes = np.concatenate([a.normals, b.normals])
+    depth = _smallest_overlap(a.vertices, b.vertices, face_axes)
+    if depth <= tol:
+        return depth
     edges_a = a.vertices[a.edges[:, 1]] - a.vertices[a.edges[:, 0]]
     edges_b = b.vertices[b.edges[:, 1]] - b.vertices[b.edges[:, 0]]
     cross = np.cross(edges_a[:, None, :], edges_b[None, :, :]).reshape(-1, 3)
     norm = np.linalg.norm(cross, axis=1)
     scale = np.linalg.norm(edges_a, axis=1).max() * np.linalg.norm(edges_b, axis=1).max()
-    cross = cross[norm > 1e-9 * scale] / norm[norm > 1e-9 * scale, None]
-    axes = np.concatenate([a.normals, b.normals, cross])
-    pa = a.vertices @ axes.T
-    pb = b.vertices @ axes.T
+    keep = norm > 1e-9 * scale
+    if not keep.any():
+        return depth
+    return min(depth, _smallest_overlap(a.vertices, b.vertices, cross[keep] / norm[keep, None]))
+
+
+def _smallest_overlap(va: np.ndarray, vb: np.ndarray, axes: np.ndarray) -> float:
+    pa = va @ axes.T
+    pb = vb @ axes.T
     overlap = np.minimum(pa.max(axis=0) - pb.min(axis=0), pb.max(axis=0) - pa.min(axis=0))
     return float(overlap.min())
 
