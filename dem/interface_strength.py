@@ -63,6 +63,8 @@ __all__ = [
     "reduced_rectangle",
     "torsion_strength_with_bending",
     "torsion_strength_with_bending_closed_form",
+    "no_tension_normal_forces",
+    "torsion_strength_elastic_bending",
     "incremental_analysis",
     "coulomb_spring_constraints",
     "max_torsion_socp",
@@ -907,6 +909,121 @@ def torsion_strength_with_bending(
     sub = interface.restricted(inside)
     caps = shear_capacities(sub, CoulombSpringLaw(mu=law.mu), normal_force)
     m3, _, _ = torsion_section(sub, caps, np.zeros((1, 2)))
+    return float(m3[0])
+
+
+def no_tension_normal_forces(
+    interface: SpringInterface,
+    law: CoulombSpringLaw,
+    normal_force: float,
+    m1: float,
+    m2: float,
+    *,
+    tol: float = 1e-12,
+    max_iter: int = 100,
+) -> np.ndarray:
+    r"""Normal spring forces of elastic no-tension springs under ``(N, m1, m2)``.
+
+    The alternative to the uniform-stress hypothesis of :func:`reduced_rectangle`: the two faces
+    stay plane, ``u_i = d_3 + \delta_1 y_{2,i} - \delta_2 y_{1,i}``, and each spring carries
+    ``n_i = k_n A_i \min(0, u_i)`` (a partialised section). ``(d_3, \delta_1, \delta_2)``
+    minimise the convex energy
+    :math:`\sum_i \tfrac12 k_n A_i \min(0,u_i)^2 - N d_3 - m_1\delta_1 - m_2\delta_2`
+    (Newton with backtracking); the compressed zone is then generally not a rectangle.
+
+    Parameters
+    ----------
+    interface : SpringInterface
+        The springs.
+    law : CoulombSpringLaw
+        Supplies ``normal_stiffness`` (the result does not depend on its value).
+    normal_force : float
+        Normal force [N], negative.
+    m1, m2 : float
+        Bending moments [N m] (``m1 = sum y2 n``, ``m2 = -sum y1 n``).
+    tol : float
+        Tolerance on the resultant residual relative to ``|N|``.
+    max_iter : int
+        Newton iteration limit.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Normal spring forces [N] (``<= 0``).
+
+    Raises
+    ------
+    ValueError
+        If ``normal_force`` is not negative.
+    InterfaceStrengthError
+        If no equilibrium is found (resultant outside the core of the springs).
+    """
+    if not normal_force < 0.0:
+        raise ValueError(f"normal_force [N] must be negative (compression), got {normal_force!r}")
+    k = law.normal_stiffness * interface.areas
+    b = np.column_stack([
+        np.ones(interface.n_springs), interface.positions[:, 1], -interface.positions[:, 0]
+    ])
+    target = np.array([normal_force, m1, m2], dtype=np.float64)
+    d = np.array([normal_force / k.sum(), 0.0, 0.0])
+
+    def energy(dd):
+        u = np.minimum(b @ dd, 0.0)
+        return 0.5 * float(k @ (u * u)) - float(target @ dd)
+
+    for _ in range(max_iter):
+        u = b @ d
+        n = k * np.minimum(u, 0.0)
+        g = b.T @ n - target
+        if np.max(np.abs(g)) <= tol * abs(normal_force):
+            return n
+        active = u < 0.0
+        hess = (b[active] * k[active, None]).T @ b[active]
+        try:
+            step = -np.linalg.solve(hess, g)
+        except np.linalg.LinAlgError as exc:
+            raise InterfaceStrengthError("no_tension_normal_forces: singular section") from exc
+        e0, t = energy(d), 1.0
+        while energy(d + t * step) > e0 + 1e-4 * t * float(g @ step) and t > 1e-12:
+            t *= 0.5
+        d = d + t * step
+    raise InterfaceStrengthError(
+        f"no_tension_normal_forces: no equilibrium for N={normal_force:g} N, m1={m1:g}, "
+        f"m2={m2:g} N m (resultant outside the core of the springs?)"
+    )
+
+
+def torsion_strength_elastic_bending(
+    interface: SpringInterface,
+    law: CoulombSpringLaw,
+    normal_force: float,
+    m1: float,
+    m2: float,
+) -> float:
+    """Torsion strength with the elastic no-tension pressure of :func:`no_tension_normal_forces`.
+
+    The friction capacities ``mu |n_i|`` are no longer uniform; the twisting centre is found by
+    :func:`torsion_section` at zero shear.
+
+    Parameters
+    ----------
+    interface : SpringInterface
+        The springs.
+    law : CoulombSpringLaw
+        Spring law (dry).
+    normal_force : float
+        Normal force [N], negative.
+    m1, m2 : float
+        Bending moments [N m].
+
+    Returns
+    -------
+    float
+        Torsion strength [N m].
+    """
+    n = no_tension_normal_forces(interface, law, normal_force, m1, m2)
+    caps = law.mu * np.abs(n)
+    m3, _, _ = torsion_section(interface, caps, np.zeros((1, 2)))
     return float(m3[0])
 
 

@@ -72,9 +72,12 @@ def _panel_fig10(ax, c) -> None:
         x = np.hypot(c[f"fig10_{tag}_m1"], c[f"fig10_{tag}_m2"])
         ax.step(x, c[f"fig10_{tag}_spring"], where="mid", color=col, lw=1.0, label=lab)
         ax.plot(x, c[f"fig10_{tag}_closed"], "--", color=col, lw=0.8)
+        if f"fig10_{tag}_elastic" in c:
+            ax.plot(x, c[f"fig10_{tag}_elastic"], ":", color=col, lw=1.2)
     ax.set_xlabel(r"bending moment $\sqrt{m_1^2 + m_2^2}$ [N m]")
     ax.set_ylabel(r"torsion strength $m_{3,u}$ [N m]")
-    ax.set_title("torsion vs bending (Fig. 10); dashed: closed form")
+    ax.set_title("torsion vs bending (Fig. 10)\n"
+                 "dashed: closed form; dotted: elastic no-tension pressure", fontsize=9)
     ax.legend(fontsize=7)
 
 

@@ -221,3 +221,21 @@ def test_spring_return_map_one_closed_forms():
 def test_bad_inputs_raise_value_error(call, word):
     with pytest.raises(ValueError, match=word):
         call()
+
+
+def test_no_tension_pressure_is_navier_inside_the_core(seed_interface):
+    # small eccentricity: the whole interface stays compressed and the pressure is
+    # sigma = N/A + m1 y2 / I1 - m2 y1 / I2 with the grid's second moments (Navier)
+    from dem.interface_strength import no_tension_normal_forces
+
+    m1, m2 = 3.0, -2.0
+    n = no_tension_normal_forces(seed_interface, DRY, N, m1, m2)
+    y1, y2 = seed_interface.positions.T
+    a = seed_interface.areas
+    i1, i2 = a @ y2**2, a @ y1**2
+    expected = a * (N / a.sum() + m1 * y2 / i1 - m2 * y1 / i2)
+    np.testing.assert_allclose(n, expected, rtol=1e-10, atol=1e-12)
+    # partialised: resultants still equal (N, m1, m2)
+    n = no_tension_normal_forces(seed_interface, DRY, N, 15.0, 0.0)
+    assert np.any(n == 0.0)
+    np.testing.assert_allclose([n.sum(), y2 @ n, -(y1 @ n)], [N, 15.0, 0.0], atol=1e-9)
