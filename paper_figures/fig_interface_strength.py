@@ -131,6 +131,11 @@ def _alpha_figure(c, rows: dict) -> Path:
 
 def main() -> list[Path]:
     """Draw the figures from the stored results and return their paths."""
+    for name in (f"{CASE}.json", f"{CASE}.npz"):
+        if not (RESULTS / name).exists():
+            raise FileNotFoundError(
+                f"{RESULTS / name} is missing: run 'python -m validation run {CASE} --quick' first"
+            )
     data = json.loads((RESULTS / f"{CASE}.json").read_text())
     rows = _rows(data)
     OUT.mkdir(parents=True, exist_ok=True)
