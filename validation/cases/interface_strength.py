@@ -361,7 +361,10 @@ by a second-order cone program (cvxpy + Clarabel) and by elastic-perfectly-plast
 
 * The printed Eq. (11) is dimensionally inconsistent; the re-derived closed form
   c_T = [d + l1^2/(2 l2) ln((l2+d)/l1) + l2^2/(2 l1) ln((l1+d)/l2)] / 6, d = sqrt(l1^2+l2^2),
-  gives 16.26 N m (seed: 16.2 N m). The spring grid converges to it at second order.
+  gives 16.26 N m (seed: 16.2 N m). The spring grid converges to it at second order. The
+  32 x 32 grid gives 16.258 N m, which would round to 16.3: the seed's 16.2 reads as truncated,
+  or as read before every spring slides (our EPP curve with the seed's stiffnesses passes
+  16.2 N m at delta3 = 1e-4 rad and tends to 16.258 N m).
 * A rigid-block limit analysis that lets the normal force move to the 4 vertices gives
   30.29 N m: a different model (the seed's springs keep the pressure uniform).
 * alpha (Table A1): the seed does not state its fitting rule. `ours` is the law through the
