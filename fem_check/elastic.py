@@ -137,7 +137,7 @@ class ShapeOperator:
         modes = np.zeros((self.n_dofs, 6))
         for c in range(3):
             modes[comp == c, c] = 1.0
-            rot = np.cross(np.eye(3)[c], r)  # e_c x r at every dof location
+            rot = _cross_any(np.eye(3)[c], r)  # e_c x r at every dof location
             modes[:, 3 + c] = rot[np.arange(self.n_dofs), comp]
         self.modes = modes
         self._constraint = (self.mass @ modes).T  # (6, n_dofs)
@@ -178,7 +178,7 @@ class ShapeOperator:
             tri = mesh.p[:, mesh.facets[:, ids]].transpose(2, 1, 0)  # (k, 3 corners, 3)
             tri2 = np.stack([tri @ t1, tri @ t2], axis=-1)  # (k, 3, 2)
             # counter-clockwise about n in the (t1, t2) basis
-            cross = np.cross(tri2[:, 1] - tri2[:, 0], tri2[:, 2] - tri2[:, 0])
+            cross = _cross_any(tri2[:, 1] - tri2[:, 0], tri2[:, 2] - tri2[:, 0])
             tri2[cross < 0] = tri2[cross < 0][:, ::-1]
             tree = cKDTree(tri2.mean(axis=1)) if len(ids) else None
             self._face_frames.append((ids, np.stack([t1, t2]), tri2, tree))
@@ -226,10 +226,10 @@ class ShapeOperator:
         cand = cand.reshape(len(p2), k)
         tri = tri2[cand]  # (q, k, 3, 2)
         a, b, c = tri[:, :, 0], tri[:, :, 1], tri[:, :, 2]
-        den = np.cross(b - a, c - a)  # (q, k)
+        den = _cross_any(b - a, c - a)  # (q, k)
         rel = p2[:, None, :] - a
-        l1 = np.cross(rel, c - a) / den  # weight of b
-        l2 = np.cross(b - a, rel) / den  # weight of c
+        l1 = _cross_any(rel, c - a) / den  # weight of b
+        l2 = _cross_any(b - a, rel) / den  # weight of c
         bary = np.stack([1.0 - l1 - l2, l1, l2], axis=-1)  # (q, k, 3)
         pick = bary.min(axis=-1).argmax(axis=1)
         rows = np.arange(len(pts))
@@ -269,19 +269,19 @@ class ShapeOperator:
         n, d = self.reference.normals[face], self.reference.offsets[face]
         ids, basis, tri2, _ = self._face_frames[face]
         poly2 = patch.polygon @ basis.T
-        if np.cross(poly2[1] - poly2[0], poly2[2] - poly2[0]) < 0:
+        if _cross_any(poly2[1] - poly2[0], poly2[2] - poly2[0]) < 0:
             poly2 = poly2[::-1]
         tol = 1e-12 * self.reference.size
         # facets wholly inside the polygon need no clipping
         edge = np.roll(poly2, -1, axis=0) - poly2
-        side = np.cross(edge[None, None], tri2[:, :, None, :] - poly2[None, None])  # (k, 3, m)
+        side = _cross_any(edge[None, None], tri2[:, :, None, :] - poly2[None, None])  # (k, 3, m)
         inside = np.all(side >= -tol * np.linalg.norm(edge, axis=1), axis=(1, 2))
         x_ref, w_ref = get_quadrature(RefTri, TRACTION_QUAD_DEGREE)
         pts2, wts, fac = [], [], []
         full = tri2[inside]
         if len(full):
             a, b, c = full[:, 0], full[:, 1], full[:, 2]
-            area = 0.5 * np.abs(np.cross(b - a, c - a))
+            area = 0.5 * np.abs(_cross_any(b - a, c - a))
             q = (
                 a[:, None]
                 + x_ref[0][None, :, None] * (b - a)[:, None]
@@ -299,7 +299,7 @@ class ShapeOperator:
             if len(piece) < 3:
                 continue
             a, b, c = piece[0], piece[1:-1], piece[2:]
-            area = 0.5 * np.abs(np.cross(b - a, c - a))
+            area = 0.5 * np.abs(_cross_any(b - a, c - a))
             q = (
                 a
                 + x_ref[0][None, :, None] * (b - a)[:, None]
@@ -322,6 +322,14 @@ class ShapeOperator:
         modes), so ``int v . b dV = M R (b, w)``.
         """
         return density * (self.mass @ (self.modes @ accel_like))
+
+
+def _cross_any(a, b):
+    """Cross product; the scalar z component for 2-D vectors (NumPy 2 deprecates those)."""
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape[-1] == 2:
+        return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return np.cross(a, b)
 
 
 @skfem.BilinearForm

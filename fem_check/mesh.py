@@ -198,15 +198,16 @@ def _occ_volume(gmsh, block: ConvexBlock) -> int:
 
 
 # -- shapes up to a rigid motion ---------------------------------------------------------------
-def shape_key(block: ConvexBlock, rel_tol: float = 1e-6) -> tuple:
+def shape_key(block: ConvexBlock, rel_tol: float = 1e-4) -> tuple:
     """A hashable summary that is equal for blocks equal up to a rigid motion.
 
-    Sorted centroid-to-vertex distances, face counts and volume, rounded to ``rel_tol`` of the
-    block size. Equal keys are necessary, not sufficient (mirror images share a key):
-    :func:`rigid_match` decides.
+    Sorted centroid-to-vertex distances (relative to the largest, rounded to ``rel_tol``) and
+    face sizes. Equal keys are necessary, not sufficient (mirror images share a key):
+    :func:`rigid_match` decides. A value falling on a rounding boundary only costs a second
+    mesh of the same shape, never a wrong match.
     """
-    scale = block.size
-    d = np.sort(np.linalg.norm(block.vertices - block.centroid, axis=1)) / scale
+    d = np.linalg.norm(block.vertices - block.centroid, axis=1)
+    d = np.sort(d) / d.max()
     sides = sorted(len(f) for f in block.faces)
     q = np.round(d / rel_tol).astype(np.int64)
     return (len(block.vertices), tuple(sides), tuple(q.tolist()))

@@ -1,0 +1,139 @@
+"""DEM loads on a block: wrench to traction, interface signs, consistent point loads."""
+
+import numpy as np
+import pytest
+
+from dem.geometry.interfaces import find_interfaces
+from dem.geometry.polyhedron import convex_block
+from fem_check.admissible import admissible_resultants, nodal_forces
+from fem_check.elastic import BlockSolver, ElasticMaterial
+from fem_check.loads import (
+    BlockLoad,
+    BlockPointLoads,
+    InterfaceResultants,
+    TractionPatch,
+    interface_block_loads,
+    loads_on_side,
+    wrench_patches,
+)
+from fem_check.mesh import MeshSettings
+
+
+def box(lo, hi):
+    return convex_block(
+        np.array(
+            [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+        )
+    )
+
+
+def test_wrench_patch_is_the_section_formula():
+    """Rectangle b x h in the plane x = 0 under N, M: sigma = N/A + M y / I (beam section)."""
+    b, h = 2e-3, 4e-3
+    poly = np.array(
+        [[0, -b / 2, -h / 2], [0, b / 2, -h / 2], [0, b / 2, h / 2], [0, -b / 2, h / 2]]
+    )
+    n_force, moment_y = 50.0, 0.03
+    (patch,) = wrench_patches(
+        [poly], np.array([n_force, 0, 0]), np.array([0, moment_y, 0]), np.zeros(3)
+    )
+    z = np.linspace(-h / 2, h / 2, 5)
+    pts = np.c_[np.zeros(5), np.zeros(5), z]
+    inertia = b * h**3 / 12
+    # moment about +y of a traction sigma e_x at height z is z * sigma
+    np.testing.assert_allclose(
+        patch.at(pts)[:, 0], n_force / (b * h) + moment_y * z / inertia, rtol=1e-12
+    )
+    np.testing.assert_allclose(patch.at(pts)[:, 1:], 0.0, atol=1e-6)
+
+
+def test_torsion_patch_circulates_about_centroid():
+    """M3 alone: in-plane traction tau = M r / J_p, perpendicular to the radius (closed form)."""
+    a = 3e-3
+    poly = np.array([[0, -a, -a], [0, a, -a], [0, a, a], [0, -a, a]]) / 2
+    torque = 0.02
+    (patch,) = wrench_patches([poly], np.zeros(3), np.array([torque, 0, 0]), np.zeros(3))
+    polar = a**4 / 6  # square of side a: J_p = a^4 / 6
+    r = np.array([[0.0, 1e-3, 0.0]])
+    np.testing.assert_allclose(patch.at(r)[0], [0, 0, torque * 1e-3 / polar], rtol=1e-12)
+
+
+def test_interface_sign_convention_compression_pushes_b_along_n():
+    a_blk, b_blk = box([0, 0, 0], [1e-3, 1e-3, 1e-3]), box([1e-3, 0, 0], [2e-3, 1e-3, 1e-3])
+    itf = find_interfaces([a_blk, b_blk])
+    n = itf.frame[0, 0]
+    np.testing.assert_allclose(n, [1, 0, 0])
+    state = InterfaceResultants(itf, np.array([[7.0, 1.0, 0.0, 0.0, 0.0, 0.0]]))
+    loads = interface_block_loads(state, 2, density=0.0, gravity=np.zeros(3))
+    f_a, _ = loads[0].resultant(a_blk)
+    f_b, _ = loads[1].resultant(b_blk)
+    np.testing.assert_allclose(f_b, 7.0 * n + 1.0 * itf.frame[0, 1], atol=1e-12)
+    np.testing.assert_allclose(f_a, -f_b, atol=1e-12)
+    # compression: the traction on b points along +n with magnitude N / A
+    np.testing.assert_allclose(loads[1].patches[0].traction @ n, 7.0 / 1e-6)
+
+
+def test_point_load_vector_reproduces_force_and_moment():
+    """R^T f of consistent nodal loads equals the sum of forces and their moments."""
+    rng = np.random.default_rng(0)
+    blk = box([0, 0, 0], [2e-3, 1e-3, 1.5e-3])
+    pts = np.c_[rng.uniform(0, 2e-3, 30), rng.uniform(0, 1e-3, 30), np.full(30, 1.5e-3)]
+    forces = rng.normal(size=(30, 3))
+    c = blk.centroid
+    f, m = forces.sum(axis=0), np.cross(pts - c, forces).sum(axis=0)
+    base = blk.vertices[blk.faces[int(np.argmin(blk.normals[:, 2]))]]
+    load = BlockLoad(pts, forces, tuple(wrench_patches([base], -f, -m, c)))
+    for degree in (1, 2):
+        solver = BlockSolver(ElasticMaterial(1e9, 0.3), MeshSettings(size=0.6e-3), degree=degree)
+        sol = solver.solve(blk, load)
+        np.testing.assert_allclose(sol.discrete_resultant, 0.0, atol=1e-12 * np.abs(forces).sum())
+        # the point forces alone, through the same mapping
+        only = BlockLoad(pts, forces)
+        fv, _ = sol.operator.point_load_vector(pts, forces)
+        np.testing.assert_allclose(sol.operator.modes.T @ fv, np.r_[f, m], rtol=1e-10, atol=1e-14)
+        del only
+
+
+def test_nodal_forces_keep_the_resultant():
+    poly = np.array([[0, 0, 0], [3e-3, 0, 0], [2e-3, 2e-3, 0], [0.5e-3, 2e-3, 0]])
+    patch = TractionPatch(poly, [1e5, -2e5, 3e5], [1e7, 2e7, -3e7], [1e-3, 1e-3, 0])
+    pts_load = nodal_forces(BlockLoad(patches=(patch,)), 0.3e-3)
+    about = np.array([0.3e-3, -1e-3, 0.2e-3])
+    f0, m0 = patch.resultant(about)
+    f1 = pts_load.forces.sum(axis=0)
+    m1 = np.cross(pts_load.points - about, pts_load.forces).sum(axis=0)
+    np.testing.assert_allclose(f1, f0, rtol=1e-12)
+    np.testing.assert_allclose(m1, m0, rtol=1e-12)
+
+
+def test_loads_on_side_of_a_box_under_gravity():
+    """Half of a box's weight is below its mid plane (closed form)."""
+    blk = box([0, 0, 0], [1e-3, 1e-3, 2e-3])
+    rho, g = 2000.0, np.array([0, 0, -9.81])
+    load = BlockLoad(density=rho, gravity=g)
+    f, _ = loads_on_side(blk, load, np.array([0, 0, 1.0]), 1e-3, blk.centroid)
+    np.testing.assert_allclose(f, 0.5 * rho * blk.volume * g, rtol=1e-12)
+
+
+def test_admissible_state_balances_every_free_block():
+    blocks = [box([i * 1e-3, 0, 0], [(i + 1) * 1e-3, 1e-3, 1e-3]) for i in range(3)]
+    itf = find_interfaces(blocks)
+    ext = np.zeros((3, 6))
+    ext[1, :3] = [0, 0, -2.0]
+    state = admissible_resultants(itf, np.array([b.centroid for b in blocks]), np.array([1]), ext)
+    loads = interface_block_loads(state, 3, 0.0, np.zeros(3))
+    f, m = loads[1].resultant(blocks[1])
+    np.testing.assert_allclose(f + ext[1, :3], 0.0, atol=1e-12)
+    np.testing.assert_allclose(m, 0.0, atol=1e-15)
+
+
+def test_point_state_rejects_bad_shapes():
+    with pytest.raises(ValueError, match="acceleration"):
+        BlockPointLoads(
+            np.array([0]),
+            np.zeros((1, 3)),
+            np.zeros((1, 3)),
+            np.zeros(3),
+            np.zeros((2, 5)),
+            np.ones(2),
+        )
