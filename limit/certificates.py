@@ -1,0 +1,280 @@
+r"""Certificates of a solved static programme: feasibility, stationarity, gap.
+
+For the conic programme :math:`\max c^T x` s.t. :math:`g_i(x) = G_i x + h_i \in K_i`, any
+:math:`z_i \in K_i^*` with :math:`c + \sum_i G_i^T z_i = 0` gives the bound
+:math:`\sum_i z_i^T h_i \ge c^T x` and the gap :math:`\sum_i z_i^T g_i(x)` (complementarity).
+The checks below use only the returned primal point, cvxpy's dual values and the constraint
+expressions, evaluated by us:
+
+- primal feasibility: the largest constraint violation of the scaled programme, the
+  equilibrium residual recomputed in SI from the interface forces, and the yield residual of
+  every interface recomputed in SI from the model's definition;
+- dual feasibility: membership of every dual in its dual cone, and stationarity probed at
+  random points (the Lagrangian is affine, so its linear part must vanish);
+- the duality gap :math:`\sum_i z_i^T h_i - c^T x`, relative to ``max(1, |c^T x|)``.
+
+cvxpy's conventions (checked in the tests on a catalogue of tiny problems): an ``Equality``
+``a == b`` has :math:`g = a - b` and :math:`z = -y`; an ``Inequality`` ``a <= b`` has
+:math:`g = b - a \ge 0` and :math:`z = y \ge 0`; ``SOC`` and ``PowCone3D`` have ``g`` = their
+arguments and ``z`` = the dual value.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import cvxpy as cp
+import numpy as np
+
+__all__ = ["Certificate", "conic_certificate", "yield_residual", "equilibrium_residual"]
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """Residuals of a solution (all relative, dimensionless).
+
+    Attributes
+    ----------
+    primal_residual : float
+        Largest constraint violation of the scaled programme.
+    equilibrium_residual : float
+        Largest ``|A_eq f + F_D + lambda F_L|`` over the free dofs, divided by the total
+        weight ``W`` (forces) or ``W L`` (moments), recomputed in SI.
+    yield_residual : float
+        Largest violation of the interface strength, recomputed in SI from the forces,
+        divided by ``W`` (``nan`` where not applicable).
+    dual_cone_residual : float
+        Largest violation of dual-cone membership, relative to the largest dual.
+    stationarity : float
+        Relative size of the linear part of the Lagrangian at random probes.
+    duality_gap : float
+        (dual bound - primal objective) / max(1, |primal objective|), scaled programme.
+    complementarity : float
+        Sum of ``z_i . g_i(x)``, relative as the gap.
+    dual_objective : float
+        The dual bound of the scaled programme.
+    """
+
+    primal_residual: float
+    equilibrium_residual: float
+    yield_residual: float
+    dual_cone_residual: float
+    stationarity: float
+    duality_gap: float
+    complementarity: float
+    dual_objective: float
+
+    def worst(self) -> float:
+        vals = [
+            self.primal_residual,
+            self.equilibrium_residual,
+            self.yield_residual,
+            self.dual_cone_residual,
+            self.stationarity,
+            abs(self.duality_gap),
+        ]
+        return float(max(v for v in vals if np.isfinite(v)))
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def _pairs(constraint) -> list[tuple[np.ndarray, list, str]]:
+    """(dual z, list of argument expressions, cone kind) of one cvxpy constraint."""
+    dv = constraint.dual_value
+    if isinstance(constraint, cp.constraints.Equality):
+        return [
+            (
+                -np.atleast_1d(np.asarray(dv, float)),
+                [constraint.args[0] - constraint.args[1]],
+                "zero",
+            )
+        ]
+    if isinstance(constraint, cp.constraints.Inequality):
+        return [
+            (
+                np.atleast_1d(np.asarray(dv, float)),
+                [constraint.args[1] - constraint.args[0]],
+                "nonneg",
+            )
+        ]
+    if isinstance(constraint, cp.constraints.SOC):
+        return [(dv, list(constraint.args[:2]), "soc")]
+    if isinstance(constraint, cp.constraints.PowCone3D):
+        return [(dv, list(constraint.args[:3]), "pow")]
+    raise TypeError(f"no certificate rule for constraint type {type(constraint).__name__}")
+
+
+def _flat(values) -> np.ndarray:
+    return np.concatenate([np.ravel(np.asarray(v, float)) for v in values])
+
+
+def _soc_parts(constraint, values) -> tuple[np.ndarray, np.ndarray]:
+    """Cone-wise (t, X) with X as (n_cones, k)."""
+    t = np.ravel(np.asarray(values[0], float))
+    x = np.asarray(values[1], float)
+    if constraint.axis == 0:
+        x = x.reshape(-1, len(t)).T if x.ndim > 1 or len(t) > 1 else x.reshape(1, -1)
+    else:
+        x = x.reshape(len(t), -1)
+    return t, x
+
+
+def _dual_cone_violation(constraint, kind, z) -> tuple[float, float]:
+    if kind == "zero":
+        return 0.0, float(np.max(np.abs(z), initial=0.0))
+    if kind == "nonneg":
+        return float(np.max(-z, initial=0.0)), float(np.max(np.abs(z), initial=0.0))
+    if kind == "soc":
+        t, x = _soc_parts(constraint, z)
+        viol = np.linalg.norm(x, axis=1) - t
+        return float(np.max(viol, initial=0.0)), float(np.max(np.abs(t), initial=0.0))
+    a = constraint.alpha.value if hasattr(constraint.alpha, "value") else constraint.alpha
+    a = np.ravel(np.asarray(a, float))
+    u, v, w = (np.ravel(np.asarray(zz, float)) for zz in z)
+    u_, v_ = np.maximum(u, 0), np.maximum(v, 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gm = (u_ / a) ** a * (v_ / (1 - a)) ** (1 - a)
+    viol = np.maximum.reduce([np.abs(w) - gm, -u, -v])
+    scale = max(np.max(np.abs(u), initial=0.0), np.max(np.abs(v), initial=0.0))
+    return float(np.max(viol, initial=0.0)), float(scale)
+
+
+def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> dict:
+    """Gap, complementarity, dual-cone and stationarity residuals of a solved maximisation.
+
+    Parameters
+    ----------
+    problem : cvxpy.Problem
+        Solved, with ``Maximize`` objective and constraint types Equality, Inequality, SOC,
+        PowCone3D.
+    n_probes : int
+        Random points at which stationarity is probed.
+
+    Returns
+    -------
+    dict
+        Keys ``primal_residual``, ``dual_cone_residual``, ``stationarity``, ``duality_gap``,
+        ``complementarity``, ``dual_objective``.
+    """
+    variables = problem.variables()
+    saved = [v.value for v in variables]
+    objective = float(problem.objective.value)
+    pairs = []
+    for c in problem.constraints:
+        for z, args, kind in _pairs(c):
+            pairs.append((c, z, args, kind))
+
+    def g_values():
+        return [[np.asarray(a.value, float) for a in args] for _, _, args, _ in pairs]
+
+    def dot(gs):
+        total = 0.0
+        mags = 0.0
+        for (_c, z, _, _kind), g in zip(pairs, gs, strict=True):
+            zf = _flat(z if isinstance(z, list) else [z])
+            gf = _flat(g)
+            if zf.size == 1 and gf.size > 1:
+                zf = np.full(gf.size, zf[0])
+            total += float(zf @ gf)
+            mags += float(np.abs(zf) @ np.abs(gf))
+        return total, mags
+
+    g_x = g_values()
+    comp, comp_mag = dot(g_x)
+    rng = np.random.default_rng(seed)
+    for v in variables:
+        v.save_value(np.zeros(v.shape))
+    g_0 = g_values()
+    dual_obj, _ = dot(g_0)
+    stat = 0.0
+    for _ in range(n_probes):
+        probes = [rng.standard_normal(v.shape) for v in variables]
+        for v, pv in zip(variables, probes, strict=True):
+            v.save_value(pv)
+        obj_r = float(problem.objective.expr.value)
+        g_r = g_values()
+        diff = [
+            [a - b for a, b in zip(gr, g0, strict=True)] for gr, g0 in zip(g_r, g_0, strict=True)
+        ]
+        lin, mag = dot(diff)
+        stat = max(stat, abs(obj_r + lin) / max(mag + abs(obj_r), 1e-300))
+    for v, val in zip(variables, saved, strict=True):
+        v.save_value(val)
+    cone_viol, zmax = 0.0, 0.0
+    for c, z, _, kind in pairs:
+        viol, scale = _dual_cone_violation(c, kind, z)
+        cone_viol = max(cone_viol, viol)
+        zmax = max(zmax, scale)
+    primal = max(
+        (float(np.max(c.violation(), initial=0.0)) for c in problem.constraints), default=0.0
+    )
+    denom = max(1.0, abs(objective))
+    return {
+        "primal_residual": primal,
+        "dual_cone_residual": cone_viol / max(zmax, 1e-300),
+        "stationarity": stat,
+        "duality_gap": (dual_obj - objective) / denom,
+        "complementarity": comp / max(denom, 1e-300),
+        "dual_objective": dual_obj,
+    }
+
+
+def equilibrium_residual(a_eq, f, dead, live, lam, row_scale) -> float:
+    """``max |row_scale * (A_eq f + F_D + lambda F_L)|`` over the free dofs [-].
+
+    Parameters
+    ----------
+    a_eq : (n_free, 6 m) sparse
+    f : (6 m,) float
+        Interface forces [N, N m].
+    dead, live : (n_free,) float
+        [N, N m].
+    lam : float
+    row_scale : (n_free,) float
+        ``1/W`` on force rows, ``1/(W L)`` on moment rows.
+    """
+    r = a_eq @ f + dead + lam * live
+    return float(np.max(np.abs(r * row_scale), initial=0.0))
+
+
+def yield_residual(
+    model: str,
+    forces: np.ndarray,
+    mu: np.ndarray,
+    c_t: np.ndarray,
+    tensile: np.ndarray,
+    weight: float,
+    vertex_forces: np.ndarray | None = None,
+    vertex_mu: np.ndarray | None = None,
+    alpha: float | None = None,
+    rocking: tuple | None = None,
+) -> float:
+    r"""Largest violation of the interface strength in SI, divided by ``W`` [-].
+
+    Vertex model: :math:`p_j \ge 0`, :math:`\|s_j\| \le \mu p_j`. Resultant model:
+    :math:`c = f_t - N \ge 0`, :math:`\|V\| \le \mu c`, :math:`|M_3| \le c_T\mu c`, the
+    interaction :math:`(|M_3|/c_T\mu c)^\alpha + \|V\|^2/(\mu c)^2 \le 1` (as a force:
+    :math:`\mu c` times the excess of the left side's root), and the centre of pressure in the
+    polygon (``rocking = (G, h, owner)`` of :func:`limit.matrices.rocking_constraints`).
+    """
+    if model == "vertex":
+        p, s = vertex_forces[:, 0], vertex_forces[:, 1:]
+        viol = np.maximum(-p, np.linalg.norm(s, axis=1) - vertex_mu * p)
+        return float(np.max(viol, initial=0.0)) / weight
+    n, v, m = forces[:, 0], forces[:, 1:3], forces[:, 3:]
+    c = tensile - n
+    vn = np.linalg.norm(v, axis=1)
+    viol = [-c, vn - mu * c, np.abs(m[:, 2]) - c_t * mu * c]
+    if alpha is not None:
+        cap = mu * c
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lhs = (np.abs(m[:, 2]) / (c_t * cap)) ** alpha + (vn / cap) ** 2
+        lhs = np.where(cap > 0, lhs, 0.0)
+        viol.append(cap * (np.sqrt(np.maximum(lhs, 0)) - 1.0))
+    if rocking is not None:
+        g, h, owner = rocking
+        ge = g @ forces.ravel() - h * c[owner]
+        ln = np.max(h)
+        viol.append(np.bincount(owner, weights=np.maximum(ge, 0) / ln, minlength=len(c)))
+    return float(np.max(np.maximum.reduce(viol), initial=0.0)) / weight

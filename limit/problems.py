@@ -1,0 +1,462 @@
+r"""Static (lower-bound form) limit-analysis programs of rigid-block assemblies, in cvxpy.
+
+The static problem of every free block (seed 001, Sec. 2 and Eq. 6 with
+``F_ext = F_D + lambda F_L``; Livesley 1978; Orduna and Lourenco 2005a):
+
+.. math::
+
+    \max_{\lambda, f}\ \lambda \quad \text{s.t.} \quad
+    A_{eq} f + F_D + \lambda F_L = 0, \qquad f_k \in \mathcal{Y}_k \ \ \forall k,
+    \qquad \lambda \ge 0,
+
+with ``A_eq = -H^T`` (:mod:`limit.matrices`) and one convex admissible set
+:math:`\mathcal{Y}_k` per interface. Two parametrisations of :math:`\mathcal{Y}_k`:
+
+``"vertex"``
+    forces :math:`(p_j, s_j)` at each corner of the interface polygon with
+    :math:`p_j \ge 0` and the exact Coulomb cone :math:`\|s_j\| \le \mu p_j`; ``f = B x``. For
+    a rigid no-tension Coulomb joint this is the exact interface.
+``"resultant"``
+    uniform-pressure resultants (Orduna and Lourenco 2005a; seed 001, Eq. 9-14) with
+    :math:`c = -N + f_t \ge 0`, the centre of pressure :math:`(M_2, -M_1)/c` inside the polygon,
+    and the torsion-shear interaction (seed 001, Eq. 14 and A5)
+
+    .. math::
+
+        \left(\frac{|M_3|}{c_T \mu c}\right)^{\alpha}
+        + \frac{V_1^2 + V_2^2}{(\mu c)^2} \le 1,
+
+    which is convex for :math:`\alpha \ge 1` and is written exactly as one power cone
+    :math:`|M_3| \le (c_T\mu\tau_1)^{1/\alpha}(c_T\mu c)^{1-1/\alpha}`, one rotated
+    second-order cone :math:`\|V\|^2 \le \mu^2 \tau_2 c` and :math:`\tau_1 + \tau_2 \le c`.
+    It contains the Coulomb circle and :math:`|M_3| \le c_T \mu c`. ``torsion="independent"``
+    keeps only these two (no interaction: a larger set).
+
+A tensile strength :math:`\bar\sigma_t` shifts the Coulomb cone apex (seed 001, Eq. 8-10,
+:math:`c = \bar\sigma_t \mu`): both models carry it exactly by shifting the normal force by
+:math:`f_t = \bar\sigma_t A`. An optional compressive strength :math:`f_c` (rectangular
+interfaces) bounds the uniform stress block on the reduced rectangle,
+:math:`c \le f_c (l_u - 2|e_u|)(l_v - 2|e_v|)`, i.e. :math:`c^3 \le f_c\,a\,b` with ``a, b``
+affine in ``(c, M_1, M_2)``: one second-order and one power cone (convex, exact).
+
+The programme is scaled (forces by the total dead weight ``W``, moments by ``W L`` with ``L``
+the median interface size, lambda by ``W / |F_L|``) so that Clarabel's tolerances are relative
+to the structure. The friction coefficients (and, for the fixed-capacity estimates, the
+friction capacities) are cvxpy Parameters: sweeps re-solve without re-compiling.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import cvxpy as cp
+import numpy as np
+import scipy.sparse as sp
+
+from dem.scene import Scene
+from limit.matrices import (
+    equilibrium_matrix,
+    interface_friction,
+    interface_rectangles,
+    interface_vertices,
+    rocking_constraints,
+    torsion_coefficient,
+    vertex_force_matrix,
+)
+
+__all__ = ["LimitSettings", "StaticProblem", "build_static_problem", "MODELS"]
+
+MODELS = ("vertex", "resultant")
+_TORSION = ("interaction", "independent")
+_FRICTION = ("coulomb", "fixed_capacity")
+
+
+@dataclass(frozen=True)
+class LimitSettings:
+    """Settings of the static limit-analysis programme.
+
+    Parameters
+    ----------
+    interface_model : {"vertex", "resultant"}
+        Interface parametrisation (module notes). Default ``"vertex"`` (exact rigid joint).
+    mu : float, optional
+        Friction coefficient of every interface [-]; default the scene's (smaller of the two
+        blocks).
+    torsion : {"interaction", "independent"}
+        Resultant model only: the torsion-shear interaction cone (default) or the Coulomb
+        circle and the pure-torsion bound without interaction.
+    torsion_alpha : float
+        Exponent alpha of the interaction (seed 001, Eq. 14: 1.5 for masonry joints) [-], >= 1.
+    friction_polygon : int, optional
+        If given, replace every friction circle by the inscribed regular polygon with this
+        many sides (a smaller, still safe set). Default None: exact cones.
+    tensile_strength : float
+        Joint tensile strength [Pa] (0 for dry joints).
+    compressive_strength : float, optional
+        Joint compressive strength [Pa]; None for unlimited.
+    tol : float
+        Clarabel's gap and feasibility tolerances (absolute and relative) [-].
+    max_iter : int
+        Clarabel iteration limit.
+    cert_tol : float
+        Largest accepted relative certificate residual (equilibrium, cones, gap) [-].
+    clarabel : dict
+        Further Clarabel settings (e.g. ``{"direct_solve_method": "qdldl"}``).
+    """
+
+    interface_model: str = "vertex"
+    mu: float | None = None
+    torsion: str = "interaction"
+    torsion_alpha: float = 1.5
+    friction_polygon: int | None = None
+    tensile_strength: float = 0.0
+    compressive_strength: float | None = None
+    tol: float = 1e-9
+    max_iter: int = 400
+    cert_tol: float = 1e-6
+    clarabel: dict = field(default_factory=lambda: {"direct_solve_method": "qdldl"})
+
+    def __post_init__(self) -> None:
+        if self.interface_model not in MODELS:
+            raise ValueError(
+                f"interface_model must be one of {MODELS}, got {self.interface_model!r}"
+            )
+        if self.torsion not in _TORSION:
+            raise ValueError(f"torsion must be one of {_TORSION}, got {self.torsion!r}")
+        if not (self.torsion_alpha >= 1.0 and math.isfinite(self.torsion_alpha)):
+            raise ValueError(f"torsion_alpha must be >= 1 (convexity), got {self.torsion_alpha}")
+        if self.friction_polygon is not None and self.friction_polygon < 3:
+            raise ValueError(f"friction_polygon needs >= 3 sides, got {self.friction_polygon}")
+        if self.tensile_strength < 0 or not math.isfinite(self.tensile_strength):
+            raise ValueError(f"tensile_strength [Pa] must be >= 0, got {self.tensile_strength}")
+        if self.compressive_strength is not None and not self.compressive_strength > 0:
+            raise ValueError(
+                "compressive_strength [Pa] must be positive or None, "
+                f"got {self.compressive_strength}"
+            )
+        if not 0 < self.tol < 1e-3:
+            raise ValueError(f"tol must lie in (0, 1e-3), got {self.tol}")
+
+    def with_(self, **kw) -> LimitSettings:
+        """A copy with some fields changed."""
+        return replace(self, **kw)
+
+    def to_dict(self) -> dict:
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+@dataclass(eq=False)
+class StaticProblem:
+    """A compiled static programme and what is needed to read its solution in SI.
+
+    Attributes
+    ----------
+    problem : cvxpy.Problem
+    lam : cvxpy.Variable
+        Scaled multiplier; ``lambda = lam_scale * lam``.
+    equilibrium : cvxpy.Constraint
+        ``A x + F_D + lam F_L == 0`` over the free dofs; its dual gives the block velocities.
+    mu : cvxpy.Parameter
+        Friction coefficient per friction cone (per corner or per interface).
+    capacity : dict of cvxpy.Parameter
+        Fixed friction capacities (``friction="fixed_capacity"`` only), scaled.
+    model, friction : str
+    scene : Scene
+    settings : LimitSettings
+    free : (6 n_blocks,) bool
+        Free dofs (rows kept).
+    a_eq : (n_free, 6 m) csr_matrix
+        ``A_eq`` restricted to the free dofs, SI.
+    f_map : (6 m, n_x) csr_matrix
+        ``f = f_map x + f_offset`` in SI from the stacked unknowns ``x`` (scaled).
+    f_offset : (6 m,) float
+        Tension shift ``(f_t, 0, ...)`` per interface [N].
+    x_vars : list of cvxpy.Variable
+        The unknowns stacked in ``x`` (in this order).
+    dead, live : (n_free,) float
+        SI loads on the free dofs.
+    weight, length, lam_scale : float
+        Scales ``W`` [N], ``L`` [m] and ``W/|F_L|``.
+    row_scale : (n_free,) float
+        Equilibrium row ``i`` was multiplied by ``row_scale[i]``.
+    interfaces, vertex_iface, vertex_local, mu_interface, c_t
+        Geometry and strength data for post-processing.
+    """
+
+    problem: cp.Problem
+    lam: cp.Variable
+    equilibrium: cp.Constraint
+    mu: cp.Parameter
+    capacity: dict
+    model: str
+    friction: str
+    scene: Scene
+    settings: LimitSettings
+    free: np.ndarray
+    a_eq: sp.csr_matrix
+    f_map: sp.csr_matrix
+    f_offset: np.ndarray
+    x_vars: list
+    dead: np.ndarray
+    live: np.ndarray
+    weight: float
+    length: float
+    lam_scale: float
+    row_scale: np.ndarray
+    interfaces: object
+    vertex_iface: np.ndarray
+    vertex_local: np.ndarray
+    mu_interface: np.ndarray
+    c_t: np.ndarray
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def n_cones(self) -> int:
+        return int(self.mu.size)
+
+    def x_value(self) -> np.ndarray:
+        """Stacked scaled unknowns at the solution."""
+        return np.concatenate([np.ravel(v.value) for v in self.x_vars])
+
+    def interface_forces(self) -> np.ndarray:
+        """(m, 6) ``(N, V1, V2, M1, M2, M3)`` [N, N m] at the solution."""
+        return (self.f_map @ self.x_value() + self.f_offset).reshape(-1, 6)
+
+
+def _scales(scene: Scene, free: np.ndarray, interfaces) -> tuple[float, float, np.ndarray]:
+    dead = scene.dead_wrench.reshape(-1, 6)
+    fr = free.reshape(-1, 6)
+    weight = float(np.sum(np.linalg.norm(np.where(fr[:, :3], dead[:, :3], 0.0), axis=1)))
+    if weight <= 0:
+        live = scene.loads.live_wrench
+        weight = float(np.sum(np.linalg.norm(np.where(fr[:, :3], live[:, :3], 0.0), axis=1)))
+    if weight <= 0:
+        weight = 1.0
+    length = float(np.median(np.sqrt(interfaces.area))) if interfaces.n_interfaces else 1.0
+    rs = np.empty((len(dead), 6))
+    rs[:, :3] = 1.0 / weight
+    rs[:, 3:] = 1.0 / (weight * length)
+    return weight, length, rs.ravel()[free]
+
+
+def _polygon_directions(k: int) -> tuple[np.ndarray, float]:
+    ang = 2 * np.pi * np.arange(k) / k
+    return np.stack([np.cos(ang), np.sin(ang)], axis=1), math.cos(math.pi / k)
+
+
+def build_static_problem(
+    scene: Scene, settings: LimitSettings | None = None, friction: str = "coulomb"
+) -> StaticProblem:
+    """Compile the static programme of a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        Blocks, supports, dead load ``scene.dead_wrench`` and live pattern
+        ``scene.loads.live_wrench`` [N, N m].
+    settings : LimitSettings, optional
+    friction : {"coulomb", "fixed_capacity"}
+        ``"coulomb"``: capacities ``mu c`` (the associated problem). ``"fixed_capacity"``:
+        capacities are Parameters set by the caller (the non-associated iteration of
+        :mod:`limit.estimates`); each starts at zero.
+
+    Returns
+    -------
+    StaticProblem
+    """
+    settings = settings or LimitSettings()
+    if friction not in _FRICTION:
+        raise ValueError(f"friction must be one of {_FRICTION}, got {friction!r}")
+    interfaces = scene.assembly.interfaces()
+    m = interfaces.n_interfaces
+    free = scene.supports.free_dofs.ravel()
+    a_full = equilibrium_matrix(scene.assembly.centroid, interfaces)
+    a_eq = a_full[free]
+    dead = scene.dead_wrench.ravel()[free]
+    live = scene.loads.live_wrench.ravel()[free]
+    weight, length, row_scale = _scales(scene, free, interfaces)
+    live_norm = float(np.sum(np.abs(live * row_scale)))
+    lam_scale = 1.0 / live_norm if live_norm > 0 else 1.0
+    mu_k = interface_friction(interfaces, scene.assembly.mu, settings.mu)
+    c_t = torsion_coefficient(interfaces)
+    vi, y = interface_vertices(interfaces)
+    area = interfaces.area
+    f_t = settings.tensile_strength * area  # [N]
+    f_offset = np.zeros(6 * m)
+    f_offset[0::6] = f_t
+
+    s_rows = sp.diags(row_scale)
+    d_dead = row_scale * (dead + a_eq @ f_offset)
+    d_live = row_scale * live * lam_scale
+    lam = cp.Variable(name="lam")
+    cons: list = [lam >= 0]
+    capacity: dict = {}
+    extra: dict = {}
+
+    if settings.interface_model == "vertex":
+        nv = len(vi)
+        b = vertex_force_matrix(interfaces)
+        f_map = b * weight  # x scaled by W
+        a_x = (s_rows @ a_eq @ f_map).tocsc()
+        p = cp.Variable(nv, name="p")
+        s1 = cp.Variable(nv, name="s1")
+        s2 = cp.Variable(nv, name="s2")
+        x_vars = [p, s1, s2]
+        # columns of a_x are interleaved (p, s1, s2) per corner
+        eq = a_x[:, 0::3] @ p + a_x[:, 1::3] @ s1 + a_x[:, 2::3] @ s2 + d_dead + lam * d_live == 0
+        f_map = f_map[
+            :,
+            np.concatenate(
+                [np.arange(0, 3 * nv, 3), np.arange(1, 3 * nv, 3), np.arange(2, 3 * nv, 3)]
+            ),
+        ]
+        mu_par = cp.Parameter(nv, nonneg=True, name="mu", value=mu_k[vi])
+        cons += [eq, p >= 0]
+        if friction == "coulomb":
+            cap = cp.multiply(mu_par, p)
+        else:
+            cap_par = cp.Parameter(nv, nonneg=True, name="capacity", value=np.zeros(nv))
+            capacity["shear"] = cap_par
+            cap = cap_par
+        if settings.friction_polygon is None:
+            cons.append(cp.SOC(cap, cp.vstack([s1, s2]), axis=0))
+        else:
+            dirs, cosk = _polygon_directions(settings.friction_polygon)
+            for d in dirs:
+                cons.append(d[0] * s1 + d[1] * s2 <= cosk * cap)
+        if settings.compressive_strength is not None:
+            # resultants (scaled by W and W L) of the corner forces
+            bn = b[0::6][:, 0::3]
+            bm1 = b[3::6][:, 0::3] / length
+            bm2 = b[4::6][:, 0::3] / length
+            n_hat = bn @ p
+            _compressive_cone(
+                cons, interfaces, settings, weight, length, -n_hat + f_t / weight, bm1 @ p, bm2 @ p
+            )
+    else:
+        cols = np.concatenate([np.arange(j, 6 * m, 6) for j in range(6)])
+        scale_cols = np.tile(np.repeat([weight, length * weight], 3), m)
+        f_map = sp.diags(scale_cols).tocsr()[:, cols]
+        a_x = (s_rows @ a_eq @ f_map).tocsc()
+        names = ("N", "V1", "V2", "M1", "M2", "M3")
+        fv = [cp.Variable(m, name=nm) for nm in names]
+        x_vars = fv
+        n_, v1, v2, m1, m2, m3 = fv
+        eq = sum(a_x[:, j * m : (j + 1) * m] @ fv[j] for j in range(6)) + d_dead + lam * d_live == 0
+        c_hat = -n_ + f_t / weight
+        mu_par = cp.Parameter(m, nonneg=True, name="mu", value=mu_k)
+        g, h, owner = rocking_constraints(interfaces)
+        g1 = g[:, 3::6]
+        g2 = g[:, 4::6]
+        own = sp.csr_matrix((h / length, (np.arange(len(h)), owner)), shape=(len(h), m))
+        cons += [eq, c_hat >= 0, g1 @ m1 + g2 @ m2 <= own @ c_hat]
+        ct_hat = c_t / length
+        shear = cp.vstack([v1, v2])
+        if settings.friction_polygon is not None:
+            r = cp.Variable(m, name="shear_gauge")
+            dirs, cosk = _polygon_directions(settings.friction_polygon)
+            for d in dirs:
+                cons.append(d[0] * v1 + d[1] * v2 <= cosk * r)
+            x_vars = [*fv, r]
+            f_map = sp.hstack([f_map, sp.csr_matrix((6 * m, m))]).tocsr()
+        else:
+            r = None
+        if friction == "coulomb":
+            cap_s = cp.multiply(mu_par, c_hat)
+            cap_t = cp.multiply(cp.multiply(ct_hat, mu_par), c_hat)
+        else:
+            cap_s_par = cp.Parameter(m, nonneg=True, name="capacity_shear", value=np.zeros(m))
+            cap_t_par = cp.Parameter(m, nonneg=True, name="capacity_torsion", value=np.zeros(m))
+            capacity["shear"], capacity["torsion"] = cap_s_par, cap_t_par
+            cap_s, cap_t = cap_s_par, cap_t_par
+        if settings.torsion == "independent":
+            if r is None:
+                cons.append(cp.SOC(cap_s, shear, axis=0))
+            else:
+                cons.append(r <= cap_s)
+            cons += [m3 <= cap_t, -m3 <= cap_t]
+        else:
+            alpha = settings.torsion_alpha
+            # explicit (not nonneg=True) so that their duals enter the certificate
+            tau1 = cp.Variable(m, name="tau_torsion")
+            tau2 = cp.Variable(m, name="tau_shear")
+            cons += [tau1 >= 0, tau2 >= 0]
+            x_vars = [*x_vars, tau1, tau2]
+            f_map = sp.hstack([f_map, sp.csr_matrix((6 * m, 2 * m))]).tocsr()
+            rr = cp.norm(shear, 2, axis=0) if r is None else r
+            if friction == "coulomb":
+                # |M3| <= (cT mu tau1)^(1/alpha) (cT mu c)^(1 - 1/alpha); |V|^2 <= mu^2 tau2 c
+                k_t = cp.multiply(ct_hat, mu_par)
+                cons.append(cp.PowCone3D(cp.multiply(k_t, tau1), cap_t, m3, 1.0 / alpha))
+                u, w = cp.multiply(mu_par, tau2), cap_s
+                cons.append(tau1 + tau2 <= c_hat)
+            else:
+                # normalised: tau1 + tau2 <= 1, |M3| <= cap_t tau1^(1/alpha), |V|^2 <= cap_s^2 tau2
+                cons.append(cp.PowCone3D(cp.multiply(cap_t, tau1), cap_t, m3, 1.0 / alpha))
+                u, w = cp.multiply(cap_s, tau2), cap_s
+                cons.append(tau1 + tau2 <= 1)
+            if r is None:
+                cons.append(cp.SOC(u + w, cp.vstack([2 * v1, 2 * v2, u - w]), axis=0))
+            else:
+                cons.append(cp.SOC(u + w, cp.vstack([2 * rr, u - w]), axis=0))
+        if settings.compressive_strength is not None:
+            _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1, m2)
+
+    problem = cp.Problem(cp.Maximize(lam), cons)
+    return StaticProblem(
+        problem=problem,
+        lam=lam,
+        equilibrium=eq,
+        mu=mu_par,
+        capacity=capacity,
+        model=settings.interface_model,
+        friction=friction,
+        scene=scene,
+        settings=settings,
+        free=free,
+        a_eq=a_eq,
+        f_map=sp.csr_matrix(f_map),
+        f_offset=f_offset,
+        x_vars=x_vars,
+        dead=dead,
+        live=live,
+        weight=weight,
+        length=length,
+        lam_scale=lam_scale,
+        row_scale=row_scale,
+        interfaces=interfaces,
+        vertex_iface=vi,
+        vertex_local=y,
+        mu_interface=mu_k,
+        c_t=c_t,
+        extra=extra,
+    )
+
+
+def _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1_hat, m2_hat):
+    r"""Append the uniform stress block :math:`c \le f_c (l_u - 2|e_u|)(l_v - 2|e_v|)`.
+
+    With :math:`a = c(l_u - 2|e_u|)`, :math:`b = c(l_v - 2|e_v|)` (affine in ``c`` and
+    ``c e = (M_2, -M_1)``) the condition is :math:`c^3 \le f_c\,a\,b`: the geometric mean
+    ``w <= sqrt(a b)`` (second-order cone) and :math:`|c| \le f_c^{1/3} w^{2/3}` (power cone).
+    All in scaled units: ``c`` by ``W``, ``a, b, w`` by ``W L``, ``kappa = f_c L^2 / W``.
+    """
+    sides, rot = interface_rectangles(interfaces)
+    m = interfaces.n_interfaces
+    kappa = settings.compressive_strength * length**2 / weight
+    lu, lv = sides[:, 0] / length, sides[:, 1] / length
+    # c e_u = u1 M2 - u2 M1 (scaled moments are already divided by W L)
+    ceu = cp.multiply(rot[:, 0, 0], m2_hat) - cp.multiply(rot[:, 0, 1], m1_hat)
+    cev = cp.multiply(rot[:, 1, 0], m2_hat) - cp.multiply(rot[:, 1, 1], m1_hat)
+    a = cp.Variable(m, name="reduced_u")
+    b = cp.Variable(m, name="reduced_v")
+    w = cp.Variable(m, name="reduced_mean")
+    cons += [
+        a <= cp.multiply(lu, c_hat) - 2 * ceu,
+        a <= cp.multiply(lu, c_hat) + 2 * ceu,
+        b <= cp.multiply(lv, c_hat) - 2 * cev,
+        b <= cp.multiply(lv, c_hat) + 2 * cev,
+        cp.SOC(a + b, cp.vstack([2 * w, a - b]), axis=0),
+        cp.PowCone3D(w, np.full(m, kappa), c_hat, 2.0 / 3.0),
+    ]

@@ -1,0 +1,104 @@
+"""Closed-form collapse multipliers, both interface models, with their certificates."""
+
+import numpy as np
+import pytest
+
+from dem.scenes.running_bond_wall import running_bond_wall
+from limit.errors import LimitAnalysisError
+from limit.matrices import mean_distance_polygon
+from limit.problems import LimitSettings
+from limit.solve import limit_analysis
+from tests.limit._scenes import block_on_ground, harmonic_stack, torsion_pair
+
+MODELS = ("vertex", "resultant")
+RTOL = 1e-6
+
+
+def _certified(result):
+    cert = result.certificate
+    assert cert.equilibrium_residual < 1e-8
+    assert cert.primal_residual < 1e-7
+    assert abs(cert.duality_gap) < 1e-7
+    assert cert.stationarity < 1e-7
+    assert cert.dual_cone_residual < 1e-7
+
+
+@pytest.mark.parametrize("model", MODELS)
+@pytest.mark.parametrize(("width", "height", "mu"), [(0.2, 0.5, 0.7), (0.4, 0.5, 0.3)])
+def test_single_block_min_mu_b_over_h(model, width, height, mu):
+    """A block on the ground pushed by a fraction lambda of its weight: sliding at
+    lambda = mu, overturning about its edge at lambda = b/h; collapse at the smaller."""
+    scene = block_on_ground(width, 0.3, height, mu)
+    res = limit_analysis(scene, LimitSettings(interface_model=model))
+    np.testing.assert_allclose(res.lam, min(mu, width / height), rtol=RTOL)
+    _certified(res)
+    # associated flow: kinematic multiplier from the dual velocities equals lambda
+    np.testing.assert_allclose(-res.dead_power, res.lam, rtol=1e-6)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_free_standing_wall_s_over_h(model):
+    """A free-standing running-bond wall (thickness s, height H) under out-of-plane load
+    proportional to its weight overturns as a whole about the base edge at lambda = s/H
+    (any rocking joint higher up gives s / (H - z) > s/H)."""
+    s_mm, a_mm, nc = 100.0, 50.0, 6
+    scene = running_bond_wall(4, nc, a_mm, 200.0, s_mm, 20.0, mu=0.7)
+    res = limit_analysis(scene, LimitSettings(interface_model=model))
+    np.testing.assert_allclose(res.lam, s_mm / (nc * a_mm), rtol=RTOL)
+    _certified(res)
+
+
+def test_pure_torsion_vertex_model():
+    """Vertex model, pure torsion of the seed's 0.3 x 0.2 m interface under N = 240 N:
+    every corner slides perpendicular to its radius, m_3 = mu N sqrt(0.15^2 + 0.1^2)
+    = 30.29 N m."""
+    res = limit_analysis(torsion_pair(), LimitSettings(interface_model="vertex"))
+    expected = 0.7 * 240.0 * np.hypot(0.15, 0.1)
+    np.testing.assert_allclose(res.lam, expected, rtol=RTOL)
+    assert abs(expected - 30.29) < 5e-3
+    _certified(res)
+
+
+@pytest.mark.parametrize("torsion", ["interaction", "independent"])
+def test_pure_torsion_uniform_pressure(torsion):
+    """Uniform-pressure model: m_3u = c_T mu N with c_T the mean distance to the centroid
+    (seed 001 Eq. 11-12): 16.26 N m for the seed's interface."""
+    res = limit_analysis(
+        torsion_pair(), LimitSettings(interface_model="resultant", torsion=torsion)
+    )
+    l1, l2 = 0.3, 0.2
+    d = np.hypot(l1, l2)
+    c_t = (
+        d + l1**2 / (2 * l2) * np.log((l2 + d) / l1) + l2**2 / (2 * l1) * np.log((l1 + d) / l2)
+    ) / 6
+    np.testing.assert_allclose(res.lam, c_t * 0.7 * 240.0, rtol=RTOL)
+    assert abs(res.lam - 16.26) < 5e-3
+    _certified(res)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_harmonic_overhang(model):
+    """Classical harmonic stack (n blocks of length L, overhangs L/(2k)): it stands at
+    (1 - eps) of the classical overhang and falls at (1 + eps)."""
+    eps = 1e-3
+    stands = limit_analysis(harmonic_stack(4, factor=1 - eps), LimitSettings(interface_model=model))
+    assert stands.lam >= 0
+    with pytest.raises(LimitAnalysisError, match="falls down by itself"):
+        limit_analysis(harmonic_stack(4, factor=1 + eps), LimitSettings(interface_model=model))
+
+
+def test_inscribed_polygon_is_safe():
+    """An inscribed friction polygon can only lower lambda (sliding block: mu cos(pi/k) in
+    the worst direction, mu along a polygon vertex direction)."""
+    scene = block_on_ground(1.0, 1.0, 0.2, 0.5)  # slides at mu = 0.5
+    exact = limit_analysis(scene, LimitSettings()).lam
+    poly = limit_analysis(scene, LimitSettings(friction_polygon=8)).lam
+    assert poly <= exact * (1 + 1e-9)
+    np.testing.assert_allclose(exact, 0.5, rtol=RTOL)
+    # x is a facet normal of the inscribed 8-gon: there the capacity is mu cos(pi/8)
+    np.testing.assert_allclose(poly, 0.5 * np.cos(np.pi / 8), rtol=RTOL)
+
+
+def test_mean_distance_independent_of_vertex_order():
+    poly = np.array([[0, 0], [0.3, 0], [0.3, 0.2], [0, 0.2]])
+    assert mean_distance_polygon(poly) == pytest.approx(mean_distance_polygon(poly[::-1]))
