@@ -1,0 +1,399 @@
+"""Surface contact nodes with tributary areas, seeded only where contact can happen.
+
+A face of a block gets nodes when it can touch something:
+
+- a face of another block lies opposite to it (normals within ``FACE_ANGLE_DEG`` of
+  anti-parallel), overlaps it in projection and is within ``margin`` of its plane; or
+- it faces up and lies under the indenter's path (a vertical line, within the tip radius plus
+  ``margin``); those nodes act against the indenter only.
+
+Each face is covered by a square grid of spacing ``h`` aligned with its longest edge; every grid
+cell is clipped exactly to the face polygon, the node sits at the centroid of the clipped cell
+and carries its area, so the tributary areas of a face sum to the face area exactly and a
+uniform penetration ``d`` gives the force ``k_n d A_face`` at any ``h``.
+
+**Counting each interface once.** For a pair of blocks ``(a, b)`` that share touching faces
+(an interface), nodes are seeded on one side only: the narrower of the two faces (ties: the
+free block, then the lower index). The weight matrix ``weight[a, b]`` is 1 for the seeded side
+and 0 for the other, so block ``b``'s nodes elsewhere never act against ``a``. Pairs without an
+interface in the reference configuration (contacts that appear only after large motions, e.g.
+diagonal TIS neighbours at the pinwheel corners) use halving: nodes of either block act against
+the other with weight 1/2. Two fixed blocks never interact (weight 0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dem.geometry.clipping import clip_convex_polygons, polygon_properties
+from dem.scene import Assembly
+
+FACE_ANGLE_DEG = 20.0
+"""Largest angle between one face normal and the reversed other for faces that can touch."""
+MIN_TOUCH_FRACTION = 0.05
+"""Faces touch when the part of their overlap within the margin is at least this fraction of the
+smaller face (pinwheel corners of diagonal TIS neighbours meet along a line only)."""
+
+
+@dataclass(frozen=True, eq=False)
+class ContactNodes:
+    """Surface nodes of an assembly (reference configuration).
+
+    Attributes
+    ----------
+    block : (n_nodes,) int64
+        Owner block of each node.
+    point : (n_nodes, 3) float64
+        Node position in the reference configuration [m].
+    normal : (n_nodes, 3) float64
+        Outward normal of the owner's face.
+    area : (n_nodes,) float64
+        Tributary area [m^2].
+    face : (n_nodes,) int64
+        Global face index (into ``assembly.arrays``).
+    weight : (n_blocks, n_blocks) float64
+        Counting weight of nodes of block ``a`` acting against block ``b`` (1, 1/2 or 0).
+    indenter_block, indenter_point, indenter_area
+        The nodes that act against the indenter only: (k,) int64, (k, 3) [m], (k,) [m^2].
+    spacing : float
+        Grid spacing ``h`` [m].
+    """
+
+    block: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+    area: np.ndarray
+    face: np.ndarray
+    weight: np.ndarray
+    indenter_block: np.ndarray
+    indenter_point: np.ndarray
+    indenter_area: np.ndarray
+    spacing: float
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.area)
+
+
+def _face_frame(polygon: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """In-plane unit axes: along the longest edge, and ``normal x`` that axis."""
+    edges = np.roll(polygon, -1, axis=0) - polygon
+    u = edges[np.argmax(np.linalg.norm(edges, axis=1))]
+    u = u - np.dot(u, normal) * normal
+    u /= np.linalg.norm(u)
+    return u, np.cross(normal, u)
+
+
+def seed_face(polygon: np.ndarray, normal: np.ndarray, spacing: float) -> tuple[np.ndarray, ...]:
+    """Nodes and tributary areas on one convex planar face.
+
+    Parameters
+    ----------
+    polygon : (k, 3) float
+        Corners, counter-clockwise about ``normal`` [m].
+    normal : (3,) float
+        Outward unit normal.
+    spacing : float
+        Grid spacing ``h`` [m].
+
+    Returns
+    -------
+    points : (m, 3) float
+        Centroids of the grid cells clipped to the face [m].
+    areas : (m,) float
+        Their areas [m^2]; they sum to the face area.
+    """
+    if not spacing > 0 or not math.isfinite(spacing):
+        raise ValueError(f"node spacing must be positive and finite, got {spacing}")
+    u, v = _face_frame(polygon, normal)
+    origin = polygon[0]
+    poly2 = np.column_stack([(polygon - origin) @ u, (polygon - origin) @ v])
+    lo, hi = poly2.min(axis=0), poly2.max(axis=0)
+    n_u = max(1, math.ceil((hi[0] - lo[0]) / spacing - 1e-9))
+    n_v = max(1, math.ceil((hi[1] - lo[1]) / spacing - 1e-9))
+    # centre the grid on the face's bounding box so that the edge cells are symmetric
+    start = 0.5 * (lo + hi) - 0.5 * spacing * np.array([n_u, n_v])
+    iu, iv = np.meshgrid(np.arange(n_u), np.arange(n_v), indexing="ij")
+    c0 = start[0] + iu.ravel() * spacing
+    c1 = start[1] + iv.ravel() * spacing
+    corners = np.stack(
+        [
+            np.column_stack([c0, c1]),
+            np.column_stack([c0 + spacing, c1]),
+            np.column_stack([c0 + spacing, c1 + spacing]),
+            np.column_stack([c0, c1 + spacing]),
+        ],
+        axis=1,
+    )  # (cells, 4, 2), counter-clockwise
+    edge = np.roll(poly2, -1, axis=0) - poly2
+    # inside of every edge of the CCW polygon: cross(edge, p - start) >= 0
+    rel = corners[:, :, None, :] - poly2[None, None, :, :]
+    side = edge[None, None, :, 0] * rel[..., 1] - edge[None, None, :, 1] * rel[..., 0]
+    scale = spacing * np.linalg.norm(edge, axis=1)
+    inside_all = np.all(side >= -1e-12 * scale, axis=(1, 2))
+    pts2 = [np.column_stack([c0[inside_all] + 0.5 * spacing, c1[inside_all] + 0.5 * spacing])]
+    areas = [np.full(int(inside_all.sum()), spacing * spacing)]
+    for k in np.flatnonzero(~inside_all):
+        piece = clip_convex_polygons(corners[k], poly2)
+        if len(piece) < 3:
+            continue
+        area, centroid, _ = polygon_properties(piece)
+        if area > 1e-12 * spacing * spacing:
+            pts2.append(centroid[None, :])
+            areas.append(np.array([area]))
+    p2 = np.concatenate(pts2)
+    points = origin + p2[:, :1] * u + p2[:, 1:] * v
+    return points, np.concatenate(areas)
+
+
+def _touching_face_pairs(assembly: Assembly, margin: float) -> list[tuple[int, int, int, int]]:
+    """``(a, fa, b, fb)`` for faces of different blocks that can touch (``a < b``)."""
+    blocks = assembly.blocks
+    lo = np.array([b.vertices.min(axis=0) for b in blocks]) - margin
+    hi = np.array([b.vertices.max(axis=0) for b in blocks]) + margin
+    cos_max = math.cos(math.radians(FACE_ANGLE_DEG))
+    out = []
+    for a in range(len(blocks)):
+        overlap = np.all((lo[a + 1 :] <= hi[a]) & (hi[a + 1 :] >= lo[a]), axis=1)
+        for b in a + 1 + np.flatnonzero(overlap):
+            ba, bb = blocks[a], blocks[b]
+            dots = ba.normals @ bb.normals.T
+            for fa, fb in zip(*np.nonzero(dots < -cos_max), strict=True):
+                if _faces_touch(ba, fa, bb, fb, margin):
+                    out.append((a, int(fa), int(b), int(fb)))
+    return out
+
+
+def _faces_touch(ba, fa: int, bb, fb: int, margin: float) -> bool:
+    n = ba.normals[fa]
+    u, v = _face_frame(ba.vertices[ba.faces[fa]], n)
+    origin = ba.vertices[ba.faces[fa][0]]
+    pa = ba.vertices[ba.faces[fa]] - origin
+    pb = bb.vertices[bb.faces[fb]] - origin
+    poly_a = np.column_stack([pa @ u, pa @ v])
+    poly_b = np.column_stack([pb @ u, pb @ v])[::-1]  # b's face is CCW about -n
+    piece = clip_convex_polygons(poly_a, poly_b)
+    if len(piece) < 3 or polygon_properties(piece)[0] <= (1e-9 * np.ptp(poly_a)) ** 2:
+        return False
+    # keep the part of the overlap where the planes are within the margin of each other: the
+    # gap along n is linear over a's plane, gap = g0 + gu u + gv v
+    nb, db = bb.normals[fb], bb.offsets[fb]
+    denom = np.dot(nb, n)
+    g0 = (db - np.dot(nb, origin)) / denom
+    gu, gv = -np.dot(nb, u) / denom, -np.dot(nb, v) / denom
+    for sign in (1.0, -1.0):
+        piece = _clip_halfplane(piece, sign * gu, sign * gv, margin - sign * g0)
+        if len(piece) < 3:
+            return False
+    near = polygon_properties(piece)[0]
+    face_area = min(polygon_properties(poly_a)[0], polygon_properties(poly_b)[0])
+    return bool(near >= MIN_TOUCH_FRACTION * face_area)
+
+
+def _clip_halfplane(poly: np.ndarray, cu: float, cv: float, c: float) -> np.ndarray:
+    """The part of a convex polygon (k, 2) with ``cu u + cv v <= c``."""
+    value = poly[:, 0] * cu + poly[:, 1] * cv - c
+    out = []
+    for j in range(len(poly)):
+        k = (j + 1) % len(poly)
+        if value[j] <= 0:
+            out.append(poly[j])
+        if (value[j] < 0) != (value[k] < 0) and value[j] != value[k]:
+            w = value[j] / (value[j] - value[k])
+            out.append(poly[j] + w * (poly[k] - poly[j]))
+    return np.array(out).reshape(-1, 2)
+
+
+def seed_contact_nodes(
+    assembly: Assembly,
+    fixed: np.ndarray,
+    spacing: float,
+    margin: float,
+    indenter_axis_xy: np.ndarray | None = None,
+    indenter_radius: float = 0.0,
+    indenter_spacing: float | None = None,
+) -> ContactNodes:
+    """Seed nodes on every face that can touch a neighbour or the indenter.
+
+    Parameters
+    ----------
+    assembly : Assembly
+    fixed : (n_blocks,) bool
+        Fixed blocks (two fixed blocks never interact).
+    spacing : float
+        Node spacing ``h`` on block faces [m].
+    margin : float
+        Faces within this distance count as touching [m].
+    indenter_axis_xy : (2,) float, optional
+        ``(x, y)`` of the vertical indenter path [m]; None for no indenter.
+    indenter_radius : float
+        Tip radius [m].
+    indenter_spacing : float, optional
+        Node spacing on the faces under the indenter [m] (default ``spacing``).
+
+    Returns
+    -------
+    ContactNodes
+    """
+    n_blocks = assembly.n_blocks
+    fixed = np.asarray(fixed, dtype=bool)
+    if fixed.shape != (n_blocks,):
+        raise ValueError(f"fixed must have shape ({n_blocks},), got {fixed.shape}")
+    if not margin > 0:
+        raise ValueError(f"margin must be positive [m], got {margin}")
+    arrays = assembly.arrays
+    weight = np.full((n_blocks, n_blocks), 0.5)
+    np.fill_diagonal(weight, 0.0)
+    weight[np.ix_(fixed, fixed)] = 0.0
+    seeded: set[tuple[int, int]] = set()
+    for a, fa, b, fb in _touching_face_pairs(assembly, margin):
+        if fixed[a] and fixed[b]:
+            continue
+        area_a = polygon_properties(_local(assembly.blocks[a], fa))[0]
+        area_b = polygon_properties(_local(assembly.blocks[b], fb))[0]
+        rel = (area_a - area_b) / max(area_a, area_b)
+        if abs(rel) > 1e-9:
+            side_a = rel < 0
+        elif fixed[a] != fixed[b]:
+            side_a = not fixed[a]
+        else:
+            side_a = True
+        owner, face, other = (a, fa, b) if side_a else (b, fb, a)
+        if weight[owner, other] == 0.0 and weight[other, owner] == 1.0:
+            # the pair already counts on the other side: seed there too for coverage
+            owner, other = other, owner
+            face = fb if owner == b else fa
+        weight[owner, other] = 1.0
+        weight[other, owner] = 0.0
+        seeded.add((owner, face))
+    blocks_l, points_l, normals_l, areas_l, faces_l = [], [], [], [], []
+    for owner, face in sorted(seeded):
+        blk = assembly.blocks[owner]
+        pts, areas = seed_face(blk.vertices[blk.faces[face]], blk.normals[face], spacing)
+        blocks_l.append(np.full(len(areas), owner, dtype=np.int64))
+        points_l.append(pts)
+        normals_l.append(np.repeat(blk.normals[face][None, :], len(areas), axis=0))
+        areas_l.append(areas)
+        faces_l.append(np.full(len(areas), arrays.face_ptr[owner] + face, dtype=np.int64))
+    ind_b, ind_p, ind_a = [], [], []
+    if indenter_axis_xy is not None:
+        h_ind = spacing if indenter_spacing is None else indenter_spacing
+        axis = np.asarray(indenter_axis_xy, dtype=float)
+        reach = indenter_radius + margin
+        for i, blk in enumerate(assembly.blocks):
+            if fixed[i]:
+                continue
+            for f, normal in enumerate(blk.normals):
+                if normal[2] < 0.5:
+                    continue
+                poly = blk.vertices[blk.faces[f]]
+                if _polygon_xy_distance(poly[:, :2], axis) > reach:
+                    continue
+                pts, areas = seed_face(poly, normal, h_ind)
+                keep = np.linalg.norm(pts[:, :2] - axis, axis=1) <= reach + h_ind
+                ind_b.append(np.full(int(keep.sum()), i, dtype=np.int64))
+                ind_p.append(pts[keep])
+                ind_a.append(areas[keep])
+    empty_i = np.zeros(0, dtype=np.int64)
+    cat = np.concatenate
+    return ContactNodes(
+        block=cat(blocks_l) if blocks_l else empty_i,
+        point=cat(points_l) if points_l else np.zeros((0, 3)),
+        normal=cat(normals_l) if normals_l else np.zeros((0, 3)),
+        area=cat(areas_l) if areas_l else np.zeros(0),
+        face=cat(faces_l) if faces_l else empty_i,
+        weight=weight,
+        indenter_block=cat(ind_b) if ind_b else empty_i,
+        indenter_point=cat(ind_p) if ind_p else np.zeros((0, 3)),
+        indenter_area=cat(ind_a) if ind_a else np.zeros(0),
+        spacing=float(spacing),
+    )
+
+
+def _local(block, face: int) -> np.ndarray:
+    poly = block.vertices[block.faces[face]]
+    u, v = _face_frame(poly, block.normals[face])
+    rel = poly - poly[0]
+    return np.column_stack([rel @ u, rel @ v])
+
+
+def _polygon_xy_distance(poly_xy: np.ndarray, point: np.ndarray) -> float:
+    """Distance in the plane from ``point`` to a convex polygon's projection (0 if inside)."""
+    centre = poly_xy.mean(axis=0)
+    rel = poly_xy - centre
+    order = np.argsort(np.arctan2(rel[:, 1], rel[:, 0]))
+    poly = poly_xy[order]
+    best = math.inf
+    inside = True
+    for k in range(len(poly)):
+        p, q = poly[k], poly[(k + 1) % len(poly)]
+        e = q - p
+        w = point - p
+        if e[0] * w[1] - e[1] * w[0] < 0:
+            inside = False
+        s = np.clip(np.dot(w, e) / np.dot(e, e), 0.0, 1.0)
+        best = min(best, float(np.linalg.norm(w - s * e)))
+    return 0.0 if inside else best
+
+
+@dataclass(frozen=True, eq=False)
+class LevelSets:
+    """Signed-distance grids of all blocks in their reference frames (LS-DEM representation).
+
+    Attributes
+    ----------
+    origin : (n_blocks, 3) float64
+        Grid corner of each block [m].
+    spacing : (n_blocks,) float64
+        Grid spacing [m].
+    dims : (n_blocks, 3) int64
+        Grid points per axis.
+    ptr : (n_blocks + 1,) int64
+        Block ``i``'s values are ``values[ptr[i]:ptr[i + 1]]`` (last axis fastest).
+    values : (n_values,) float64
+        Signed distance at the grid points [m].
+    """
+
+    origin: np.ndarray
+    spacing: np.ndarray
+    dims: np.ndarray
+    ptr: np.ndarray
+    values: np.ndarray
+
+
+def build_level_sets(
+    assembly: Assembly, spacing: float, pad: float, sdf_functions: list | None = None
+) -> LevelSets:
+    """Sample each block's signed distance on a regular grid.
+
+    Parameters
+    ----------
+    assembly : Assembly
+    spacing : float
+        Grid spacing [m] (seed 000: 0.025 mm).
+    pad : float
+        Extent of the grid beyond the block's bounding box [m] (at least the contact margin).
+    sdf_functions : list of callables, optional
+        ``phi_i(points (k, 3)) -> (k,)`` per block; default: the convex face-plane distance
+        ``max_f (n_f . x - d_f)``, exact inside and on the surface.
+    """
+    if not spacing > 0:
+        raise ValueError(f"level-set spacing must be positive [m], got {spacing}")
+    n = assembly.n_blocks
+    origin = np.zeros((n, 3))
+    dims = np.zeros((n, 3), dtype=np.int64)
+    chunks = []
+    for i, blk in enumerate(assembly.blocks):
+        lo = blk.vertices.min(axis=0) - pad
+        hi = blk.vertices.max(axis=0) + pad
+        counts = np.ceil((hi - lo) / spacing).astype(np.int64) + 1
+        axes = [lo[k] + spacing * np.arange(counts[k]) for k in range(3)]
+        grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+        phi = blk.signed_distance(grid) if sdf_functions is None else sdf_functions[i](grid)
+        origin[i], dims[i] = lo, counts
+        chunks.append(np.asarray(phi, dtype=np.float64))
+    ptr = np.concatenate([[0], np.cumsum([len(c) for c in chunks])]).astype(np.int64)
+    return LevelSets(origin, np.full(n, float(spacing)), dims, ptr, np.concatenate(chunks))

@@ -1,0 +1,470 @@
+"""Nodal penalty contact with regularised Coulomb friction (seed 000, Eqs. (1)-(2)).
+
+A contact entry ``e`` is a pair (surface node ``i`` of block ``a``, neighbour block ``b``). The
+node sits at ``x = c_a + R_a r_i`` and penetrates ``b`` by ``d = -phi_b(x)`` (signed distance of
+``b``, see :mod:`dem.kernels.signed_distance`). With ``n`` the outward normal of ``b`` there, the
+force on block ``a`` at ``x`` is (``-F`` acts on ``b`` at the same point)::
+
+    F = w A_i [ sigma n - k_t s ],   sigma = max(0, k_n d + beta k_n d_dot)
+
+- ``k_n`` [Pa/m] is a traction per penetration (seed 000 Eq. (2)), so ``sum_i k_n d_i A_i``
+  converges to ``k_n int d dA`` as nodes are refined.
+- ``w`` is the entry's weight: 1 when the interface is counted on this side only, 1/2 when
+  both sides carry nodes (halving), 0 when the other side counts it.
+- ``beta`` [s] is a stiffness-proportional normal dashpot (``beta = 2 zeta / omega_max``).
+- ``s`` (3,) [m] is the node's elastic shear displacement history relative to ``b``: each step it
+  is rotated into the current tangent plane (length kept), incremented by the tangential
+  relative velocity times ``dt`` and capped so that ``k_t |s| <= mu sigma`` (seed 000 Eq. (1),
+  no static/kinetic distinction). ``k_t`` [Pa/m] is a shear traction per displacement.
+
+The per-item law is :func:`traction_one` (scalars only); :func:`contact_entries` evaluates a
+range of entries and writes only their rows, so :func:`node_contacts_parallel` can split the
+entries into chunks with ``prange``; :func:`accumulate_wrenches` then sums the rows into block
+forces and moments serially (deterministic order, so runs are reproducible).
+"""
+
+import math
+
+from numba import njit, prange
+
+from dem.kernels.signed_distance import convex_sdf_one, level_set_sdf_one
+
+MU_RULE_MEAN = 0
+MU_RULE_MIN = 1
+
+
+@njit(cache=True)
+def pair_mu(mu_a, mu_b, rule):
+    """Friction coefficient of a pair from the blocks' values (0: mean, 1: min)."""
+    if rule == MU_RULE_MIN:
+        return min(mu_a, mu_b)
+    return 0.5 * (mu_a + mu_b)
+
+
+@njit(cache=True)
+def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, beta, dt):
+    """Contact law of one node: normal penalty with dashpot and regularised Coulomb friction.
+
+    Parameters
+    ----------
+    depth : float
+        Penetration ``d > 0`` [m].
+    n0, n1, n2 : float
+        Unit normal, pointing out of the neighbour (towards the node's block).
+    vr0, vr1, vr2 : float
+        Velocity of the node's material point relative to the neighbour's [m/s].
+    s0, s1, s2 : float
+        Shear history at the start of the step [m].
+    k_n, k_t : float
+        Penalties [Pa/m].
+    mu : float
+        Friction coefficient.
+    beta : float
+        Normal dashpot [s].
+    dt : float
+        [s].
+
+    Returns
+    -------
+    t0, t1, t2 : float
+        Traction on the node's block [Pa].
+    s0, s1, s2 : float
+        Updated shear history [m].
+    """
+    vn = vr0 * n0 + vr1 * n1 + vr2 * n2
+    # penetration rate is -vn (a's point moving against n goes deeper into b)
+    sigma = k_n * (depth - beta * vn)
+    if sigma < 0.0:
+        sigma = 0.0
+    t0 = sigma * n0
+    t1 = sigma * n1
+    t2 = sigma * n2
+    if k_t > 0.0:
+        old = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+        sn = s0 * n0 + s1 * n1 + s2 * n2
+        s0 -= sn * n0
+        s1 -= sn * n1
+        s2 -= sn * n2
+        new = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+        if new > 0.0:
+            # rotate with the contact frame: keep the length of the history
+            scale = old / new
+            s0 *= scale
+            s1 *= scale
+            s2 *= scale
+        s0 += (vr0 - vn * n0) * dt
+        s1 += (vr1 - vn * n1) * dt
+        s2 += (vr2 - vn * n2) * dt
+        cap = mu * sigma
+        trial = k_t * math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+        if trial > cap:
+            scale = cap / trial
+            s0 *= scale
+            s1 *= scale
+            s2 *= scale
+        t0 -= k_t * s0
+        t1 -= k_t * s1
+        t2 -= k_t * s2
+    else:
+        s0 = 0.0
+        s1 = 0.0
+        s2 = 0.0
+    return t0, t1, t2, s0, s1, s2
+
+
+@njit(cache=True)
+def contact_entries(
+    e_begin,
+    e_end,
+    pair_node,
+    pair_block,
+    pair_weight,
+    pair_shear,
+    node_block,
+    node_r0,
+    node_area,
+    pos,
+    rot,
+    vel,
+    omega,
+    ref_centroid,
+    face_ptr,
+    face_normal,
+    face_offset,
+    use_level_set,
+    ls_origin,
+    ls_spacing,
+    ls_dims,
+    ls_ptr,
+    ls_values,
+    block_mu,
+    mu_rule,
+    k_n,
+    k_t,
+    beta,
+    dt,
+    out_force,
+    out_point,
+    out_depth,
+):
+    """Forces of entries ``e_begin:e_end``; updates their shear and writes their output rows.
+
+    Parameters
+    ----------
+    e_begin, e_end : int
+        Range of entries.
+    pair_node, pair_block : (m,) int64
+        Node and neighbour block of each entry.
+    pair_weight : (m,) float64
+        Counting weight ``w`` (1, 1/2 or 0).
+    pair_shear : (m, 3) float64
+        Shear displacement history [m] (updated in place).
+    node_block : (n_nodes,) int64
+        Owner block of each node.
+    node_r0 : (n_nodes, 3) float64
+        Node offset from its block's centroid in the reference frame [m].
+    node_area : (n_nodes,) float64
+        Tributary area [m^2].
+    pos, vel, omega : (n_blocks, 3) float64
+        Centroid [m], velocity [m/s], angular velocity (world frame) [rad/s].
+    rot : (n_blocks, 3, 3) float64
+        Rotation matrices of the blocks.
+    ref_centroid : (n_blocks, 3) float64
+        Centroids in the reference configuration [m].
+    face_ptr, face_normal, face_offset
+        Face planes of all blocks in the reference frame (CSR by block).
+    use_level_set : bool
+        Use the level-set grids instead of the face planes.
+    ls_origin (n_blocks, 3), ls_spacing (n_blocks,), ls_dims (n_blocks, 3), ls_ptr, ls_values
+        Level-set grids (ignored unless ``use_level_set``).
+    block_mu : (n_blocks,) float64
+        Friction coefficient of each block; ``mu_rule`` combines a pair (0 mean, 1 min).
+    k_n, k_t : float
+        Normal and tangential penalty [Pa/m].
+    beta : float
+        Stiffness-proportional normal damping [s].
+    dt : float
+        Time step [s].
+    out_force, out_point : (m, 3) float64
+        Force on the node's block [N] and the point it acts at [m].
+    out_depth : (m,) float64
+        Penetration ``d`` [m] (negative: separation, lower bound).
+    """
+    for e in range(e_begin, e_end):
+        i = pair_node[e]
+        b = pair_block[e]
+        a = node_block[i]
+        r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
+        rx = rot[a, 0, 0] * r0x + rot[a, 0, 1] * r0y + rot[a, 0, 2] * r0z
+        ry = rot[a, 1, 0] * r0x + rot[a, 1, 1] * r0y + rot[a, 1, 2] * r0z
+        rz = rot[a, 2, 0] * r0x + rot[a, 2, 1] * r0y + rot[a, 2, 2] * r0z
+        x0 = pos[a, 0] + rx
+        x1 = pos[a, 1] + ry
+        x2 = pos[a, 2] + rz
+        out_point[e, 0] = x0
+        out_point[e, 1] = x1
+        out_point[e, 2] = x2
+        dx = x0 - pos[b, 0]
+        dy = x1 - pos[b, 1]
+        dz = x2 - pos[b, 2]
+        # reference frame of b: X = R_b^T (x - c_b) + C0_b
+        X0 = rot[b, 0, 0] * dx + rot[b, 1, 0] * dy + rot[b, 2, 0] * dz + ref_centroid[b, 0]
+        X1 = rot[b, 0, 1] * dx + rot[b, 1, 1] * dy + rot[b, 2, 1] * dz + ref_centroid[b, 1]
+        X2 = rot[b, 0, 2] * dx + rot[b, 1, 2] * dy + rot[b, 2, 2] * dz + ref_centroid[b, 2]
+        if use_level_set:
+            phi, g0, g1, g2 = level_set_sdf_one(
+                X0, X1, X2, ls_origin[b], ls_spacing[b], ls_dims[b], ls_values, ls_ptr[b]
+            )
+        else:
+            phi, f = convex_sdf_one(
+                X0, X1, X2, face_normal, face_offset, face_ptr[b], face_ptr[b + 1]
+            )
+            g0, g1, g2 = face_normal[f, 0], face_normal[f, 1], face_normal[f, 2]
+        out_depth[e] = -phi
+        if phi >= 0.0 or pair_weight[e] == 0.0:
+            pair_shear[e, 0] = 0.0
+            pair_shear[e, 1] = 0.0
+            pair_shear[e, 2] = 0.0
+            out_force[e, 0] = 0.0
+            out_force[e, 1] = 0.0
+            out_force[e, 2] = 0.0
+            continue
+        n0 = rot[b, 0, 0] * g0 + rot[b, 0, 1] * g1 + rot[b, 0, 2] * g2
+        n1 = rot[b, 1, 0] * g0 + rot[b, 1, 1] * g1 + rot[b, 1, 2] * g2
+        n2 = rot[b, 2, 0] * g0 + rot[b, 2, 1] * g1 + rot[b, 2, 2] * g2
+        # relative velocity of a's material point against b's material point at x
+        vr0 = vel[a, 0] + omega[a, 1] * rz - omega[a, 2] * ry
+        vr1 = vel[a, 1] + omega[a, 2] * rx - omega[a, 0] * rz
+        vr2 = vel[a, 2] + omega[a, 0] * ry - omega[a, 1] * rx
+        vr0 -= vel[b, 0] + omega[b, 1] * dz - omega[b, 2] * dy
+        vr1 -= vel[b, 1] + omega[b, 2] * dx - omega[b, 0] * dz
+        vr2 -= vel[b, 2] + omega[b, 0] * dy - omega[b, 1] * dx
+        mu = pair_mu(block_mu[a], block_mu[b], mu_rule)
+        t0, t1, t2, s0, s1, s2 = traction_one(
+            -phi, n0, n1, n2, vr0, vr1, vr2, pair_shear[e, 0], pair_shear[e, 1],
+            pair_shear[e, 2], k_n, k_t, mu, beta, dt,
+        )  # fmt: skip
+        pair_shear[e, 0] = s0
+        pair_shear[e, 1] = s1
+        pair_shear[e, 2] = s2
+        area = node_area[i] * pair_weight[e]
+        out_force[e, 0] = t0 * area
+        out_force[e, 1] = t1 * area
+        out_force[e, 2] = t2 * area
+
+
+@njit(cache=True)
+def node_contacts(
+    pair_node,
+    pair_block,
+    pair_weight,
+    pair_shear,
+    node_block,
+    node_r0,
+    node_area,
+    pos,
+    rot,
+    vel,
+    omega,
+    ref_centroid,
+    face_ptr,
+    face_normal,
+    face_offset,
+    use_level_set,
+    ls_origin,
+    ls_spacing,
+    ls_dims,
+    ls_ptr,
+    ls_values,
+    block_mu,
+    mu_rule,
+    k_n,
+    k_t,
+    beta,
+    dt,
+    out_force,
+    out_point,
+    out_depth,
+):
+    """Every entry, serially (arguments as :func:`contact_entries` without the range)."""
+    contact_entries(
+        0, pair_node.shape[0], pair_node, pair_block, pair_weight, pair_shear, node_block,
+        node_r0, node_area, pos, rot, vel, omega, ref_centroid, face_ptr, face_normal,
+        face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values,
+        block_mu, mu_rule, k_n, k_t, beta, dt, out_force, out_point, out_depth,
+    )  # fmt: skip
+
+
+@njit(cache=True, parallel=True)
+def node_contacts_parallel(
+    pair_node,
+    pair_block,
+    pair_weight,
+    pair_shear,
+    node_block,
+    node_r0,
+    node_area,
+    pos,
+    rot,
+    vel,
+    omega,
+    ref_centroid,
+    face_ptr,
+    face_normal,
+    face_offset,
+    use_level_set,
+    ls_origin,
+    ls_spacing,
+    ls_dims,
+    ls_ptr,
+    ls_values,
+    block_mu,
+    mu_rule,
+    k_n,
+    k_t,
+    beta,
+    dt,
+    out_force,
+    out_point,
+    out_depth,
+):
+    """Every entry, in parallel chunks (``prange``); each chunk writes its own rows."""
+    m = pair_node.shape[0]
+    n_chunks = (m + 511) // 512
+    for c in prange(n_chunks):
+        contact_entries(
+            c * 512, min(m, (c + 1) * 512), pair_node, pair_block, pair_weight, pair_shear,
+            node_block, node_r0, node_area, pos, rot, vel, omega, ref_centroid, face_ptr,
+            face_normal, face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr,
+            ls_values, block_mu, mu_rule, k_n, k_t, beta, dt, out_force, out_point, out_depth,
+        )  # fmt: skip
+
+
+@njit(cache=True)
+def accumulate_wrenches(
+    pair_node, pair_block, node_block, pos, out_force, out_point, force, torque
+):
+    """Add each entry's force to its node's block and its negative to the neighbour block.
+
+    Parameters
+    ----------
+    out_force, out_point : (m, 3) float64
+        Entry forces on the node's block [N] and their points [m].
+    force, torque : (n_blocks, 3) float64
+        Accumulated in place: forces [N] and moments about the centroids [N m].
+    """
+    for e in range(pair_node.shape[0]):
+        f0, f1, f2 = out_force[e, 0], out_force[e, 1], out_force[e, 2]
+        if f0 == 0.0 and f1 == 0.0 and f2 == 0.0:
+            continue
+        a = node_block[pair_node[e]]
+        b = pair_block[e]
+        for blk, sgn in ((a, 1.0), (b, -1.0)):
+            rx = out_point[e, 0] - pos[blk, 0]
+            ry = out_point[e, 1] - pos[blk, 1]
+            rz = out_point[e, 2] - pos[blk, 2]
+            force[blk, 0] += sgn * f0
+            force[blk, 1] += sgn * f1
+            force[blk, 2] += sgn * f2
+            torque[blk, 0] += sgn * (ry * f2 - rz * f1)
+            torque[blk, 1] += sgn * (rz * f0 - rx * f2)
+            torque[blk, 2] += sgn * (rx * f1 - ry * f0)
+
+
+@njit(cache=True)
+def sphere_contacts(
+    ind_block,
+    ind_r0,
+    ind_area,
+    pos,
+    rot,
+    vel,
+    omega,
+    centre,
+    radius,
+    velocity,
+    k_n,
+    beta,
+    force,
+    torque,
+    out_force,
+):
+    """Frictionless penalty contact of a rigid sphere (the indenter) with block surface nodes.
+
+    Parameters
+    ----------
+    ind_block : (k,) int64
+        Block of each indenter node.
+    ind_r0 : (k, 3) float64
+        Node offsets from the block centroid, reference frame [m].
+    ind_area : (k,) float64
+        Tributary areas [m^2].
+    centre : (3,) float64
+        Sphere centre [m].
+    radius : float
+        [m].
+    velocity : (3,) float64
+        Sphere velocity [m/s] (for the normal dashpot).
+    k_n : float
+        Penalty [Pa/m]; ``beta`` [s] normal damping.
+    force, torque : (n_blocks, 3) float64
+        Accumulated in place.
+    out_force : (k, 3) float64
+        Force on each node's block [N].
+
+    Returns
+    -------
+    float
+        Total force on the sphere, z component negated: the indenter load ``P`` [N] (positive
+        when the sphere pushes down).
+    """
+    p_total = 0.0
+    for e in range(ind_block.shape[0]):
+        a = ind_block[e]
+        r = rot[a] @ ind_r0[e]
+        x0 = pos[a, 0] + r[0]
+        x1 = pos[a, 1] + r[1]
+        x2 = pos[a, 2] + r[2]
+        d0 = x0 - centre[0]
+        d1 = x1 - centre[1]
+        d2 = x2 - centre[2]
+        dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        depth = radius - dist
+        if depth <= 0.0 or dist == 0.0:
+            out_force[e, 0] = 0.0
+            out_force[e, 1] = 0.0
+            out_force[e, 2] = 0.0
+            continue
+        n0, n1, n2 = d0 / dist, d1 / dist, d2 / dist
+        va0 = vel[a, 0] + omega[a, 1] * r[2] - omega[a, 2] * r[1] - velocity[0]
+        va1 = vel[a, 1] + omega[a, 2] * r[0] - omega[a, 0] * r[2] - velocity[1]
+        va2 = vel[a, 2] + omega[a, 0] * r[1] - omega[a, 1] * r[0] - velocity[2]
+        vn = va0 * n0 + va1 * n1 + va2 * n2
+        sigma = k_n * (depth - beta * vn)
+        if sigma < 0.0:
+            sigma = 0.0
+        f0 = sigma * ind_area[e] * n0
+        f1 = sigma * ind_area[e] * n1
+        f2 = sigma * ind_area[e] * n2
+        out_force[e, 0] = f0
+        out_force[e, 1] = f1
+        out_force[e, 2] = f2
+        force[a, 0] += f0
+        force[a, 1] += f1
+        force[a, 2] += f2
+        torque[a, 0] += r[1] * f2 - r[2] * f1
+        torque[a, 1] += r[2] * f0 - r[0] * f2
+        torque[a, 2] += r[0] * f1 - r[1] * f0
+        p_total -= f2
+    return p_total
+
+
+@njit(cache=True)
+def elastic_energy(pair_node, pair_weight, node_area, out_depth, k_n):
+    """Normal penalty energy ``sum 1/2 k_n d^2 w A`` of the entries in contact [J]."""
+    total = 0.0
+    for e in range(pair_node.shape[0]):
+        d = out_depth[e]
+        if d > 0.0:
+            total += 0.5 * k_n * d * d * pair_weight[e] * node_area[pair_node[e]]
+    return total
