@@ -1,0 +1,349 @@
+r"""Bounds and estimates of the collapse multiplier with non-associated Coulomb friction.
+
+Dry joints slide without dilatancy, so the normality rule of the static programme
+(:mod:`limit.problems`) does not hold and its solution is not the collapse multiplier. What
+is proven, and what is not:
+
+upper bound (proven)
+    The associated solution :math:`\lambda^+` (Radenkovic's first theorem: the
+    non-associated collapse multiplier never exceeds the associated one of the same yield
+    surface).
+lower bound (proven)
+    Radenkovic's second theorem: the associated solution with the plastic potential as yield
+    surface bounds the non-associated multiplier from below. For zero dilatancy the
+    potential through the apex of the Coulomb cone is the frictionless joint, so
+    :math:`\lambda^- = \lambda^+(\mu = 0)`. Out-of-plane loaded walls usually give 0 (and no
+    value at all when the frictionless structure cannot carry its own weight).
+estimate (a), not a bound
+    The associated problem with the reduced friction :math:`\mu^* = \mu / \sqrt{1 + \mu^2}`
+    (:math:`\tan\varphi^* = \sin\varphi`), the friction of a non-dilatant joint in the
+    Davis-type reduction.
+estimate (b), not a bound
+    A sequence of convex problems with a modified failure surface (after Gilbert, Casapulla
+    and Ahmed 2006): the friction capacity of every cone is frozen at
+    :math:`\mu\,c^{(k-1)}` from the normal forces of the previous solution, which makes the
+    surface flat in the normal direction (so normality gives zero dilatancy); the capacities
+    are updated with relaxation ``omega`` until lambda and the normal forces settle. The whole
+    history of lambda and a convergence flag are returned; the iteration may cycle (the normal
+    forces of a programme are not unique), in which case it is reported as not converged.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from dem.scene import Scene
+from limit.errors import LimitAnalysisError
+from limit.problems import LimitSettings, StaticProblem, build_static_problem
+from limit.solve import LimitResult, check_scene, limit_analysis, solve_static
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "reduced_friction",
+    "IterativeEstimate",
+    "iterative_estimate",
+    "frictionless_lower_bound",
+    "Bounds",
+    "bounds_and_estimates",
+]
+
+
+def reduced_friction(mu: float) -> float:
+    r""":math:`\mu^* = \mu/\sqrt{1+\mu^2}` (:math:`\tan\varphi^* = \sin\varphi`) [-]."""
+    return float(mu) / math.sqrt(1.0 + float(mu) ** 2)
+
+
+@dataclass
+class IterativeEstimate:
+    """History of the fixed-capacity iteration (estimate (b)).
+
+    Attributes
+    ----------
+    lam : float
+        Last multiplier (an estimate, not a bound) [-].
+    history : list of float
+        lambda of the associated start and of every iteration.
+    converged : bool
+        ``|lam_k - lam_{k-1}| <= tol max(1, |lam_k|)`` and the normal forces changed by less
+        than ``tol`` (relative to the weight) in the last step.
+    admissible : bool
+        The last iterate satisfies the Coulomb condition with its own normal forces (to
+        ``tol`` relative to the weight): it is then statically admissible for the associated
+        problem, so ``lam <= `` the associated upper bound.
+    coulomb_excess : float
+        Largest ``|V| - mu c`` of the last iterate with its own normal forces, over ``W``.
+    n_iter : int
+    omega : float
+        Relaxation of the capacity update.
+    result : LimitResult or None
+        The last solve (forces and mechanism of the estimate).
+    failure : str
+        Why the iteration stopped early ("" when it did not).
+    wall_s : float
+    """
+
+    lam: float
+    history: list
+    converged: bool
+    admissible: bool
+    coulomb_excess: float
+    n_iter: int
+    omega: float
+    result: LimitResult | None
+    failure: str = ""
+    wall_s: float = 0.0
+
+
+def _normal_capacity(sp_: StaticProblem, result: LimitResult) -> np.ndarray:
+    """Scaled normal force carrying friction: corner ``p`` (vertex) or ``c = f_t - N``."""
+    if sp_.model == "vertex":
+        return np.maximum(result.vertex_forces[:, 0], 0.0) / sp_.weight
+    f_t = sp_.settings.tensile_strength * sp_.interfaces.area
+    return np.maximum(f_t - result.interface_forces[:, 0], 0.0) / sp_.weight
+
+
+def _coulomb_excess(fixed: StaticProblem, result: LimitResult, cap_n: np.ndarray) -> float:
+    """Largest shear (and, resultant model, torsion) excess over ``mu c`` with the iterate's
+    own normal forces, relative to the weight."""
+    mu = fixed.mu_interface
+    if fixed.model == "vertex":
+        s = np.linalg.norm(result.vertex_forces[:, 1:], axis=1) / fixed.weight
+        return float(np.max(s - mu[fixed.vertex_iface] * cap_n, initial=0.0))
+    f = result.interface_forces
+    v = np.linalg.norm(f[:, 1:3], axis=1) / fixed.weight
+    m3 = np.abs(f[:, 5]) / fixed.weight
+    cap = mu * cap_n
+    out = np.maximum(v - cap, m3 - fixed.c_t * cap)
+    if fixed.settings.torsion == "interaction":
+        alpha = fixed.settings.torsion_alpha
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lhs = (m3 / (fixed.c_t * cap)) ** alpha + (v / cap) ** 2
+        lhs = np.where(cap > 0, lhs, np.where((v > 0) | (m3 > 0), np.inf, 0.0))
+        out = np.maximum(out, cap * (np.sqrt(lhs) - 1.0))
+    return float(np.max(out, initial=0.0))
+
+
+def _set_capacity(fixed: StaticProblem, cap_n: np.ndarray, mu: np.ndarray) -> None:
+    if fixed.model == "vertex":
+        fixed.capacity["shear"].value = mu[fixed.vertex_iface] * cap_n
+    else:
+        fixed.capacity["shear"].value = mu * cap_n
+        fixed.capacity["torsion"].value = fixed.c_t / fixed.length * mu * cap_n
+
+
+def iterative_estimate(
+    scene: Scene,
+    settings: LimitSettings | None = None,
+    max_iter: int = 30,
+    omega: float = 0.5,
+    tol: float = 1e-4,
+    start: LimitResult | None = None,
+) -> IterativeEstimate:
+    """Estimate (b): fixed-capacity iteration from the associated solution.
+
+    Parameters
+    ----------
+    scene : Scene
+    settings : LimitSettings, optional
+    max_iter : int
+        Largest number of re-solves.
+    omega : float
+        Relaxation in (0, 1]: ``c_cap <- (1 - omega) c_cap + omega c_new``.
+    tol : float
+        Convergence tolerance on lambda and the normal forces (relative) [-].
+    start : LimitResult, optional
+        The associated solution (computed if not given).
+
+    Returns
+    -------
+    IterativeEstimate
+    """
+    if not 0 < omega <= 1:
+        raise ValueError(f"omega must lie in (0, 1], got {omega}")
+    settings = settings or LimitSettings()
+    t0 = time.perf_counter()
+    if start is None:
+        start = limit_analysis(scene, settings)
+    fixed = build_static_problem(scene, settings, friction="fixed_capacity")
+    mu = fixed.mu_interface
+    cap = _normal_capacity(fixed, start)
+    history = [start.lam]
+    converged, failure, result = False, "", None
+    excess = math.inf
+    n_iter = 0
+    for n_iter in range(1, max_iter + 1):  # noqa: B007 (n_iter is reported)
+        _set_capacity(fixed, cap, mu)
+        try:
+            result = solve_static(fixed)
+        except LimitAnalysisError as exc:
+            failure = f"iteration {n_iter}: {exc}"
+            logger.info("fixed-capacity iteration stopped: %s", failure)
+            break
+        history.append(result.lam)
+        new = _normal_capacity(fixed, result)
+        excess = _coulomb_excess(fixed, result, new)
+        change = float(np.max(np.abs(new - cap), initial=0.0))
+        cap = (1 - omega) * cap + omega * new
+        if abs(history[-1] - history[-2]) <= tol * max(1.0, abs(history[-1])) and change <= tol:
+            converged = True
+            break
+    return IterativeEstimate(
+        lam=history[-1],
+        history=history,
+        converged=converged,
+        admissible=bool(excess <= tol),
+        coulomb_excess=float(excess),
+        n_iter=n_iter,
+        omega=omega,
+        result=result,
+        failure=failure,
+        wall_s=time.perf_counter() - t0,
+    )
+
+
+def frictionless_lower_bound(
+    scene: Scene, settings: LimitSettings | None = None
+) -> tuple[float | None, str]:
+    """Radenkovic's lower bound: the associated multiplier with ``mu = 0``.
+
+    Returns
+    -------
+    lam : float or None
+        The bound, or None when the frictionless structure cannot stand (no lower bound
+        other than the trivial statement that nothing is proven).
+    note : str
+    """
+    settings = (settings or LimitSettings()).with_(mu=0.0)
+    try:
+        res = limit_analysis(scene, settings)
+    except LimitAnalysisError as exc:
+        text = str(exc)
+        if "unbounded" in text:
+            return math.inf, "frictionless structure carries any live load"
+        return None, "frictionless structure cannot carry its dead load: no lower bound"
+    # round-off of a zero bound (interior-point solvers stop just inside the cone)
+    lam = res.lam if res.lam > settings.tol * 10 else 0.0
+    return lam, "frictionless (Radenkovic) lower bound"
+
+
+@dataclass
+class Bounds:
+    """Upper bound, estimates and lower bound of one scene and interface model.
+
+    Attributes
+    ----------
+    model : str
+    upper : float
+        Associated multiplier (proven upper bound for zero-dilatancy friction).
+    reduced_mu : float or None
+        Estimate (a), associated problem with ``mu*``.
+    iterative : IterativeEstimate or None
+        Estimate (b).
+    lower : float or None
+        Frictionless lower bound (None: no bound).
+    lower_note : str
+    associated : LimitResult
+        The associated solution (forces and mechanism).
+    wall_s : dict
+        Wall time of each part [s].
+    """
+
+    model: str
+    upper: float
+    reduced_mu: float | None
+    iterative: IterativeEstimate | None
+    lower: float | None
+    lower_note: str
+    associated: LimitResult
+    wall_s: dict = field(default_factory=dict)
+
+    def estimates_below_upper(self, rtol: float = 1e-6) -> bool:
+        """Estimate (a), and estimate (b) when its last iterate is admissible, lie below the
+        upper bound (as they must: both are associated-admissible force fields)."""
+        vals = [self.reduced_mu]
+        if self.iterative is not None and self.iterative.admissible:
+            vals.append(self.iterative.lam)
+        return all(v is None or v <= self.upper * (1 + rtol) + rtol for v in vals)
+
+    def to_dict(self) -> dict:
+        it = self.iterative
+        return {
+            "model": self.model,
+            "upper": self.upper,
+            "reduced_mu": self.reduced_mu,
+            "iterative": None if it is None else it.lam,
+            "iterative_history": None if it is None else it.history,
+            "iterative_converged": None if it is None else it.converged,
+            "iterative_admissible": None if it is None else it.admissible,
+            "iterative_failure": None if it is None else it.failure,
+            "lower": self.lower,
+            "lower_note": self.lower_note,
+            "wall_s": self.wall_s,
+        }
+
+
+def bounds_and_estimates(
+    scene: Scene,
+    settings: LimitSettings | None = None,
+    iterate: bool = True,
+    max_iter: int = 30,
+    omega: float = 0.5,
+    lower: bool = True,
+) -> Bounds:
+    """Upper bound, estimates (a) and (b), and the formal lower bound of a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+    settings : LimitSettings, optional
+        ``settings.mu`` or the scene's friction; the reduced friction of estimate (a) is
+        derived from the same value (per interface).
+    iterate : bool
+        Run estimate (b).
+    max_iter, omega : see :func:`iterative_estimate`.
+    lower : bool
+        Compute the frictionless lower bound.
+    """
+    settings = settings or LimitSettings()
+    check_scene(scene)
+    times = {}
+    t = time.perf_counter()
+    sp_ = build_static_problem(scene, settings)
+    upper = solve_static(sp_)
+    times["upper"] = time.perf_counter() - t
+    t = time.perf_counter()
+    mu = sp_.mu_interface
+    mu_star = mu / np.sqrt(1.0 + mu**2)
+    reduced = None
+    sp_.mu.value = mu_star[sp_.vertex_iface] if sp_.model == "vertex" else mu_star
+    try:
+        reduced = solve_static(sp_).lam
+    except LimitAnalysisError as exc:
+        logger.info("reduced-friction estimate failed: %s", exc)
+    sp_.mu.value = mu[sp_.vertex_iface] if sp_.model == "vertex" else mu
+    times["reduced_mu"] = time.perf_counter() - t
+    it = None
+    if iterate:
+        it = iterative_estimate(scene, settings, max_iter=max_iter, omega=omega, start=upper)
+        times["iterative"] = it.wall_s
+    lo, note = None, "not computed"
+    if lower:
+        t = time.perf_counter()
+        lo, note = frictionless_lower_bound(scene, settings)
+        times["lower"] = time.perf_counter() - t
+    return Bounds(
+        model=settings.interface_model,
+        upper=upper.lam,
+        reduced_mu=reduced,
+        iterative=it,
+        lower=lo,
+        lower_note=note,
+        associated=upper,
+        wall_s=times,
+    )

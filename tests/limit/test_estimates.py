@@ -1,0 +1,70 @@
+"""Ordering of the bounds and estimates on random small walls (theorems, not our numbers).
+
+- mu* <= mu shrinks every friction cone, so estimate (a) <= the associated upper bound;
+- the frictionless problem is contained in both, so the lower bound is below both;
+- a fixed-capacity iterate that satisfies Coulomb with its own normal forces is an
+  associated-admissible force field, so it is below the upper bound too.
+"""
+
+import numpy as np
+import pytest
+
+from dem.scene import Supports
+from dem.scenes.running_bond_wall import running_bond_wall
+from limit.estimates import bounds_and_estimates, reduced_friction
+from limit.problems import LimitSettings
+from tests.limit._scenes import block_on_ground
+
+
+def _random_wall(seed: int):
+    rng = np.random.default_rng(seed)
+    n, nc = int(rng.integers(2, 4)), int(rng.integers(3, 6))
+    a, b, s = rng.uniform(40, 80), rng.uniform(150, 250), rng.uniform(60, 120)
+    mu = float(rng.uniform(0.4, 0.9))
+    kind = seed % 3
+    scene = running_bond_wall(
+        n,
+        nc,
+        a,
+        b,
+        s,
+        20.0,
+        mu=mu,
+        fixed_columns=("left",) if kind == 0 else (),
+        simply_supported=("left", "right") if kind == 1 else (),
+    )
+    if kind == 2:  # translations only along the left column
+        course = np.array(scene.meta["course"])
+        restrained = scene.supports.restrained.copy()
+        left = [np.flatnonzero(course == k)[0] for k in range(nc)]
+        restrained[left, :3] = True
+        scene = scene.with_supports(Supports(scene.supports.fixed, restrained))
+    return scene
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("model", ["vertex", "resultant"])
+def test_estimates_below_upper_bound(seed, model):
+    scene = _random_wall(seed)
+    b = bounds_and_estimates(scene, LimitSettings(interface_model=model), max_iter=15)
+    tol = 1e-6 * max(1.0, b.upper)
+    assert b.reduced_mu <= b.upper + tol
+    assert b.lower is not None and b.lower <= b.reduced_mu + tol
+    assert b.estimates_below_upper()
+    if b.iterative.admissible:
+        assert b.iterative.lam <= b.upper + tol
+    assert len(b.iterative.history) == b.iterative.n_iter + 1 or b.iterative.failure
+
+
+def test_reduced_friction_sliding_block():
+    """A sliding block (wide and low) collapses at mu in the associated problem and at
+    mu* = mu / sqrt(1 + mu^2) in estimate (a); the frictionless bound is 0."""
+    mu = 0.6
+    b = bounds_and_estimates(block_on_ground(1.0, 1.0, 0.2, mu), iterate=True)
+    np.testing.assert_allclose(b.upper, mu, rtol=1e-6)
+    np.testing.assert_allclose(b.reduced_mu, reduced_friction(mu), rtol=1e-6)
+    np.testing.assert_allclose(reduced_friction(mu), np.sin(np.arctan(mu)), rtol=1e-14)
+    assert b.lower == 0.0
+    # a single sliding joint has a unique normal force: the iteration is exact at once
+    assert b.iterative.converged
+    np.testing.assert_allclose(b.iterative.lam, mu, rtol=1e-6)
