@@ -1,0 +1,142 @@
+"""Surface nodes, signed distances, the nodal contact law and the neighbour-list merge."""
+
+import math
+
+import numpy as np
+import pytest
+
+from dem.contact_nodes import build_level_sets, seed_contact_nodes, seed_face
+from dem.geometry.polyhedron import convex_block
+from dem.kernels.broadphase import carry_history
+from dem.kernels.contact_force import traction_one
+from dem.kernels.signed_distance import convex_sdf_many, level_set_sdf_one
+from dem.scenes.tis_panel import tis_interface_area, tis_panel
+from dem.units import MM
+
+
+@pytest.mark.parametrize("spacing", [0.7, 0.31, 0.05])
+def test_tributary_areas_sum_to_face_area(spacing):
+    """Cells clipped exactly to the face: the areas add up to the polygon area (shoelace)."""
+    angle = np.sort(np.random.default_rng(3).uniform(0, 2 * np.pi, 7))
+    xy = np.column_stack([2.0 * np.cos(angle), 1.3 * np.sin(angle)])
+    area = 0.5 * abs(np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1]))
+    # tilt the polygon into a plane with normal n
+    n = np.array([1.0, 2.0, 2.0]) / 3.0
+    u = np.cross(n, [0.0, 0.0, 1.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)
+    poly = 0.3 * n + xy[:, :1] * u + xy[:, 1:] * v
+    points, areas = seed_face(poly, n, spacing)
+    np.testing.assert_allclose(areas.sum(), area, rtol=1e-12)
+    np.testing.assert_allclose((points - poly[0]) @ n, 0.0, atol=1e-12)  # on the face
+    assert np.all(areas <= spacing**2 * (1 + 1e-12))
+
+
+def test_tis_interfaces_counted_once():
+    """Weight-1 node areas of each free pair equal the exact interface area (clipping)."""
+    scene = tis_panel(3, 5.0)
+    fixed = scene.supports.fixed
+    nodes = seed_contact_nodes(scene.assembly, fixed, 0.4 * MM, 0.05 * MM)
+    itf = scene.assembly.interfaces()
+    for a, b, area in zip(itf.block_a, itf.block_b, itf.area, strict=True):
+        if fixed[a] and fixed[b]:
+            assert nodes.weight[a, b] == 0 and nodes.weight[b, a] == 0
+            continue
+        assert {nodes.weight[a, b], nodes.weight[b, a]} == {0.0, 1.0}
+        owner = a if nodes.weight[a, b] == 1 else b
+        # nodes of the owner on the face towards the other block
+        other = b if owner == a else a
+        on = nodes.block == owner
+        normal = scene.assembly.centroid[other] - scene.assembly.centroid[owner]
+        facing = on & (nodes.normal @ normal > 0.9 * np.linalg.norm(normal))
+        np.testing.assert_allclose(nodes.area[facing].sum(), area, rtol=1e-9)
+    # every full internal interface has the closed-form area of the builder
+    side = 50 * MM / 4
+    full = tis_interface_area(side, math.radians(5.0), 3.18 * MM)
+    assert np.isclose(itf.area, full, rtol=1e-9).sum() >= 2 * 3 * 4
+
+
+def test_convex_signed_distance_matches_numpy():
+    blk = convex_block(np.random.default_rng(0).normal(size=(20, 3)))
+    pts = np.random.default_rng(1).normal(size=(200, 3))
+    out = np.zeros(len(pts))
+    convex_sdf_many(pts, blk.normals, blk.offsets, 0, len(blk.offsets), out)
+    np.testing.assert_allclose(out, blk.signed_distance(pts), rtol=0, atol=1e-15)
+
+
+def test_level_set_trilinear_matches_planes_inside_faces():
+    """Trilinear interpolation reproduces a linear field exactly: away from edges (one active
+    face plane in the whole grid cell) the level set equals the plane distance and its gradient
+    is the face normal."""
+    scene = tis_panel(1, 5.0)
+    asm = scene.assembly
+    h = 0.1 * MM
+    ls = build_level_sets(asm, h, 0.3 * MM)
+    blk = asm.blocks[4]  # the internal block
+    rng = np.random.default_rng(2)
+    checked = 0
+    for f, normal in enumerate(blk.normals):
+        poly = blk.vertices[blk.faces[f]]
+        centre = poly.mean(axis=0)
+        for _ in range(10):
+            p = (
+                centre
+                + 0.2 * (poly[rng.integers(len(poly))] - centre)
+                - rng.uniform(0, 2) * h * normal
+            )
+            phi_exact = blk.signed_distance(p)[0]
+            # skip points whose grid cell sees another face (near edges)
+            corners = np.floor((p - ls.origin[4]) / h)[None, :] + np.array(
+                [[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+            )
+            cell = ls.origin[4] + corners * h
+            active = np.argmax(cell @ blk.normals.T - blk.offsets, axis=1)
+            if np.any(active != f):
+                continue
+            phi, g0, g1, g2 = level_set_sdf_one(*p, ls.origin[4], h, ls.dims[4], ls.values,
+                                                ls.ptr[4])  # fmt: skip
+            np.testing.assert_allclose(phi, phi_exact, atol=1e-12)
+            np.testing.assert_allclose([g0, g1, g2], normal, atol=1e-9)
+            checked += 1
+    assert checked > 20
+
+
+def test_traction_law_stick_slip_closed_form():
+    """Eq. (1): elastic shear k_t |s| below mu sigma, capped at mu sigma above; normal k_n d."""
+    k_n, k_t, mu, dt = 1e12, 5e11, 0.3, 1e-6
+    d = 1e-6
+    n = (0.0, 0.0, 1.0)
+    # stick: sliding speed v for one step gives s = v dt
+    v = 1e-2
+    t0, t1, t2, s0, s1, s2 = traction_one(d, *n, v, 0.0, 0.0, 0.0, 0.0, 0.0, k_n, k_t, mu, 0.0, dt)
+    np.testing.assert_allclose([t0, t1, t2], [-k_t * v * dt, 0.0, k_n * d])
+    # slip: a large step is capped at mu sigma, along the slip
+    v = 10.0
+    t0, t1, t2, s0, *_ = traction_one(d, *n, v, 0.0, 0.0, 0.0, 0.0, 0.0, k_n, k_t, mu, 0.0, dt)
+    np.testing.assert_allclose([t0, t2], [-mu * k_n * d, k_n * d])
+    np.testing.assert_allclose(k_t * s0, mu * k_n * d)
+    # history is rotated into a new tangent plane with its length kept
+    s = np.array([1e-7, 0.0, 0.0])
+    tilt = math.radians(10)
+    n2 = (math.sin(tilt), 0.0, math.cos(tilt))
+    *_, r0, r1, r2 = traction_one(d, *n2, 0.0, 0.0, 0.0, *s, k_n, k_t, 10.0, 0.0, dt)
+    np.testing.assert_allclose(np.linalg.norm([r0, r1, r2]), 1e-7, rtol=1e-12)
+    np.testing.assert_allclose(np.dot([r0, r1, r2], n2), 0.0, atol=1e-20)
+    # separation-free rate damping never pulls: sigma clipped at 0
+    out = traction_one(d, *n, 0.0, 0.0, 1e3, 0.0, 0.0, 0.0, k_n, k_t, mu, 1e-6, dt)
+    assert out[2] == 0.0
+
+
+def test_carry_history_merge():
+    rng = np.random.default_rng(5)
+    keys_old = sorted({(int(a), int(b)) for a, b in rng.integers(0, 30, size=(60, 2))})
+    keys_new = sorted({(int(a), int(b)) for a, b in rng.integers(0, 30, size=(60, 2))})
+    old_n, old_b = (np.array(x, dtype=np.int64) for x in zip(*keys_old, strict=True))
+    new_n, new_b = (np.array(x, dtype=np.int64) for x in zip(*keys_new, strict=True))
+    old_s = rng.normal(size=(len(keys_old), 3))
+    out = np.zeros((len(keys_new), 3))
+    carried = carry_history(old_n, old_b, old_s, new_n, new_b, out)
+    ref = {k: old_s[i] for i, k in enumerate(keys_old)}
+    expected = np.array([ref.get(k, np.zeros(3)) for k in keys_new])
+    np.testing.assert_array_equal(out, expected)
+    assert carried == len(set(keys_old) & set(keys_new))

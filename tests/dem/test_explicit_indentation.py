@@ -1,0 +1,87 @@
+"""Indentation of a small TIS panel: scaling with k_n, checkpoint-resume, results."""
+
+import numpy as np
+import pytest
+
+from dem.explicit import (
+    ExplicitSettings,
+    IndentationSettings,
+    curve_summary,
+    simulate_indentation,
+)
+from dem.scenes.tis_panel import tis_panel
+from dem.tis_stiffness import tis_panel_k_def
+from dem.units import MM
+
+FAST = IndentationSettings(speed=50 * MM, max_deflection=0.15 * MM, record_interval=0.005 * MM)
+
+
+def run(k_n, **kw):
+    scene = tis_panel(3, 2.5)
+    settings = ExplicitSettings(k_n=k_n, node_spacing=1.5 * MM, **kw)
+    return simulate_indentation(scene, settings, FAST)
+
+
+def test_load_proportional_to_kn():
+    """Rigid blocks, penalty contact and Coulomb friction with k_t proportional to k_n: the
+    quasi-static problem is homogeneous in k_n (self weight aside, 1e-4 of P here), so doubling
+    E doubles P at every deflection (seed 000 Sec. 2.3)."""
+    k = tis_panel_k_def(3)
+    one = run(k)
+    two = run(2 * k)
+    assert one.load.max() > 5.0  # a real load, far above the panel's weight
+    common = np.linspace(0.05, 0.15, 5) * MM
+    p1 = np.interp(common, one.delta, one.load)
+    p2 = np.interp(common, two.delta, two.load)
+    np.testing.assert_allclose(p2 / p1, 2.0, rtol=0.03)
+
+
+def test_checkpoint_resume_same_curve(tmp_path):
+    """A run abandoned midway and resumed from its checkpoint gives the same curve, bit for bit,
+    as the uninterrupted run."""
+    k = tis_panel_k_def(3)
+    scene = tis_panel(3, 2.5)
+    settings = ExplicitSettings(k_n=k, node_spacing=1.5 * MM)
+    whole = simulate_indentation(scene, settings, FAST)
+    path = tmp_path / "run.npz"
+    with pytest.raises(KeyboardInterrupt):
+        simulate_indentation(scene, settings, FAST, checkpoint=path, stop_after_chunks=11)
+    assert path.exists()
+    resumed = simulate_indentation(scene, settings, FAST, checkpoint=path)
+    np.testing.assert_array_equal(resumed.delta, whole.delta)
+    np.testing.assert_array_equal(resumed.load, whole.load)
+    np.testing.assert_array_equal(resumed.block_pos[-1], whole.block_pos[-1])
+    # a checkpoint of other settings is not reused
+    other = ExplicitSettings(k_n=k, node_spacing=1.5 * MM, kt_over_kn=0.5)
+    fresh = simulate_indentation(scene, other, FAST, checkpoint=path)
+    assert not np.array_equal(fresh.load, whole.load)
+
+
+def test_curve_summary_triangle():
+    """Closed form on a triangular curve: peak, deflection at peak, ultimate and energy."""
+    delta = np.linspace(0.001, 4.0, 4000)
+    load = np.where(delta <= 1.0, 100 * delta, np.maximum(0.0, 100 * (2.0 - delta)))
+    s = curve_summary(delta, load, ultimate_fraction=0.05, out_confirm=0.5)
+    np.testing.assert_allclose(s["peak_load"], 100.0, rtol=1e-3)
+    np.testing.assert_allclose(s["deflection_at_peak"], 1.0, atol=1e-3)
+    np.testing.assert_allclose(s["ultimate_deflection"], 1.95, atol=2e-3)
+    # area of the triangle up to 1.95: 100 - 0.5 * 5 * 0.05
+    np.testing.assert_allclose(s["loading_energy"], 100.0 - 0.125, rtol=2e-3)
+    np.testing.assert_allclose(s["energy_to_peak"], 50.0, rtol=2e-3)
+
+
+def test_peak_state_is_balanced():
+    """The exported peak state: forces on each free block plus its weight equal m a."""
+    res = run(tis_panel_k_def(3))
+    ps = res.peak_state
+    n = len(ps["density"])
+    total = np.zeros((n, 3))
+    np.add.at(total, ps["block"], ps["force"])
+    scene = tis_panel(3, 2.5)
+    mass = scene.assembly.mass
+    free = ~scene.supports.fixed
+    lhs = total[free] + mass[free, None] * ps["gravity"]
+    np.testing.assert_allclose(lhs, mass[free, None] * ps["acceleration"][free, :3],
+                               atol=1e-9 * np.abs(ps["force"]).max())  # fmt: skip
+    assert ps["point"].shape == ps["force"].shape and ps["block"].dtype == np.int64
+    assert len(ps["vert_ptr"]) == n + 1
