@@ -171,7 +171,8 @@ class StaticProblem:
     f_map : (6 m, n_x) csr_matrix
         ``f = f_map x + f_offset`` in SI from the stacked unknowns ``x`` (scaled).
     f_offset : (6 m,) float
-        Tension shift ``(f_t, 0, ...)`` per interface [N].
+        Tension shift ``(f_t, 0, ...)`` per interface [N] (vertex model; zero for the
+        resultant model, whose ``N`` is the full normal force).
     x_vars : list of cvxpy.Variable
         The unknowns stacked in ``x`` (in this order).
     dead, live : (n_free,) float
@@ -284,7 +285,9 @@ def build_static_problem(
     area = interfaces.area
     f_t = settings.tensile_strength * area  # [N]
     f_offset = np.zeros(6 * m)
-    f_offset[0::6] = f_t
+    if settings.interface_model == "vertex":
+        # corner forces carry the shifted pressure p + sigma_t: N = f_t - sum p
+        f_offset[0::6] = f_t
 
     s_rows = sp.diags(row_scale)
     d_dead = row_scale * (dead + a_eq @ f_offset)

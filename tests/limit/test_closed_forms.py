@@ -102,3 +102,30 @@ def test_inscribed_polygon_is_safe():
 def test_mean_distance_independent_of_vertex_order():
     poly = np.array([[0, 0], [0.3, 0], [0.3, 0.2], [0, 0.2]])
     assert mean_distance_polygon(poly) == pytest.approx(mean_distance_polygon(poly[::-1]))
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_tensile_strength_closed_forms(model):
+    """Mortar joint with tensile strength sigma_t (Coulomb apex at sigma_t, seed 001
+    Eq. 8-10): a squat block slides at lambda W = mu (W + sigma_t A); a block hanging under a
+    fixed block, pulled down by lambda W, detaches at (1 + lambda) W = sigma_t A."""
+    from dem.scene import Scene, proportional_to_weight
+    from tests.limit._scenes import GROUND, box
+
+    sigma_t, mu = 2.0e3, 0.5
+    scene = block_on_ground(1.0, 1.0, 0.2, mu)
+    weight = scene.assembly.mass[1] * 9.81
+    settings = LimitSettings(interface_model=model, tensile_strength=sigma_t)
+    res = limit_analysis(scene, settings)
+    np.testing.assert_allclose(res.lam, mu * (1 + sigma_t * 1.0 / weight), rtol=RTOL)
+    _certified(res)
+    # hang a 0.4 x 0.3 x 0.5 m block under the fixed block (its bottom face is z = -1)
+    sigma_t = 2.0e4
+    settings = LimitSettings(interface_model=model, tensile_strength=sigma_t)
+    blocks = [GROUND, box((-0.2, -0.15, -1.5), (0.2, 0.15, -1.0))]
+    sc = Scene.from_convex_blocks(blocks, 2000.0, fixed=[0], mu=mu)
+    sc = sc.with_loads(live=proportional_to_weight(sc.assembly, (0.0, 0.0, -1.0)))
+    w2 = sc.assembly.mass[1] * 9.81
+    res = limit_analysis(sc, settings)
+    np.testing.assert_allclose(res.lam, sigma_t * 0.4 * 0.3 / w2 - 1.0, rtol=RTOL)
+    _certified(res)
