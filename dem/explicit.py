@@ -190,12 +190,16 @@ class RelaxationSettings:
         without meeting the tolerance raises :class:`SimulationError`.
     global_damping : float or None
         Damping ratio at ``omega_max`` during relaxation (None: the solver's value).
+    require_convergence : bool
+        Raise when ``max_steps`` pass without meeting the tolerance (default); otherwise log a
+        warning and go on (a panel without interlock, theta = 0, never comes to rest).
     """
 
     ke_speed: float = 1e-6
     min_steps: int = 1000
     max_steps: int = 200000
     global_damping: float | None = 0.1
+    require_convergence: bool = True
 
     def __post_init__(self):
         if not self.ke_speed > 0:
@@ -221,7 +225,7 @@ class IndentationSettings:
     record_interval : float
         Travel between recorded points [m]; default 2 um.
     ultimate_fraction : float
-        ``P / P_max`` below which the block is out (see the module docstring); default 0.05.
+        ``P / P_max`` below which the block is out (see the module docstring); default 0.1.
     out_confirm : float
         Travel with ``P`` below that fraction needed to call the block out and stop [m];
         default 0.3 mm.
@@ -230,6 +234,9 @@ class IndentationSettings:
         default 0.1 mm.
     stop_when_out : bool
         Stop once the block is out (default True).
+    stop_below_peak_fraction : float or None
+        Stop early, once ``P`` has fallen below this fraction of the peak so far after the peak
+        (for studies of the peak load only); default None.
     """
 
     block: int | None = None
@@ -237,10 +244,11 @@ class IndentationSettings:
     speed: float = 5.0 * MM
     max_deflection: float = 6.0 * MM
     record_interval: float = 2e-3 * MM
-    ultimate_fraction: float = 0.05
+    ultimate_fraction: float = 0.1
     out_confirm: float = 0.3 * MM
     snapshot_interval: float = 0.1 * MM
     stop_when_out: bool = True
+    stop_below_peak_fraction: float | None = None
 
     def __post_init__(self):
         for name in (
@@ -750,10 +758,14 @@ class ExplicitModel:
             if steps >= relaxation.min_steps and ke <= tol:
                 break
             if steps >= relaxation.max_steps:
-                raise SimulationError(
+                message = (
                     f"relaxation did not converge in {steps} steps: kinetic energy {ke:.3e} J "
                     f"> tolerance {tol:.3e} J"
                 )
+                if relaxation.require_convergence:
+                    raise SimulationError(message)
+                logger.warning("%s; going on", message)
+                break
         return {"steps": steps, "kinetic": ke, "tolerance": tol,
                 "wall_s": time.perf_counter() - start}  # fmt: skip
 
@@ -977,6 +989,11 @@ def simulate_indentation(
                 if st.below_since(indentation) else None  # fmt: skip
             if summary is not None and math.isfinite(summary["ultimate_deflection"]):
                 st.finished = True
+        if (
+            indentation.stop_below_peak_fraction is not None
+            and p_mean < indentation.stop_below_peak_fraction * st.best_load
+        ):
+            st.finished = True
         now = time.perf_counter()
         if now - last_log >= settings.progress_every_s:
             rate = (st.steps - steps_start) / (now - loop_start)
