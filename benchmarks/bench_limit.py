@@ -1,0 +1,92 @@
+"""Time of the static limit analysis against the number of blocks.
+
+Running-bond walls (Restrepo-Velez blocks, 21 courses or square-ish) fixed on their left
+column under out-of-plane load proportional to weight; for each size: interface detection
+(dem.geometry), programme assembly, cvxpy compilation, Clarabel, certificate, total.
+
+Usage::
+
+    python benchmarks/bench_limit.py            # up to about 10,000 blocks
+    python benchmarks/bench_limit.py --quick    # up to about 1,000 blocks
+    python benchmarks/bench_limit.py --models vertex resultant --json out.json
+
+Speed targets of issue 4: a Table 2 wall (about 300 blocks) in under 1 s, 10,000 blocks in
+under 60 s on 2 cores. Times are wall-clock on a shared machine: compare ratios within a run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+import warnings
+
+from dem.scenes.running_bond_wall import running_bond_wall
+from limit.problems import LimitSettings, build_static_problem
+from limit.solve import solve_static
+
+SIZES_FULL = ((12, 21), (24, 40), (50, 60), (70, 140))
+SIZES_QUICK = ((6, 13), (12, 21), (24, 40))
+
+
+def bench_one(n_per_course: int, n_courses: int, model: str, certify: bool = True) -> dict:
+    """Timings [s] of one wall."""
+    t0 = time.perf_counter()
+    scene = running_bond_wall(
+        n_per_course, n_courses, 28.24, 79.78, 39.68, 26.8, mu=0.7, fixed_columns=("left",)
+    )
+    interfaces = scene.assembly.interfaces()
+    t1 = time.perf_counter()
+    sp_ = build_static_problem(scene, LimitSettings(interface_model=model))
+    t2 = time.perf_counter()
+    res = solve_static(sp_, certify=certify)
+    t3 = time.perf_counter()
+    return {
+        "model": model,
+        "n_blocks": scene.n_blocks,
+        "n_interfaces": interfaces.n_interfaces,
+        "n_cones": sp_.n_cones,
+        "geometry_s": t1 - t0,
+        "assembly_s": t2 - t1,
+        "compile_s": res.compile_s,
+        "clarabel_s": res.solve_s,
+        "solve_and_certify_s": t3 - t2,
+        "limit_total_s": t3 - t1,
+        "lam": res.lam,
+        "status": res.status,
+        "certificate_worst": res.certificate.worst() if certify else None,
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--models", nargs="+", default=["vertex", "resultant"])
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args(argv)
+    warnings.filterwarnings("ignore")
+    sizes = SIZES_QUICK if args.quick else SIZES_FULL
+    out = []
+    header = (
+        f"{'model':9s} {'blocks':>7s} {'ifaces':>7s} {'geom':>7s} {'assemble':>8s} "
+        f"{'compile':>8s} {'clarabel':>8s} {'limit':>8s} {'lambda':>9s}"
+    )
+    print(header)
+    for n, nc in sizes:
+        for model in args.models:
+            r = bench_one(n, nc, model)
+            out.append(r)
+            print(
+                f"{model:9s} {r['n_blocks']:7d} {r['n_interfaces']:7d} {r['geometry_s']:7.2f} "
+                f"{r['assembly_s']:8.2f} {r['compile_s']:8.2f} {r['clarabel_s']:8.2f} "
+                f"{r['limit_total_s']:8.2f} {r['lam']:9.5f}",
+                flush=True,
+            )
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(out, fh, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
