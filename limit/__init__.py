@@ -1,14 +1,18 @@
 """Rigid-block limit analysis: static programmes, certificates, bounds and estimates."""
 
 from limit.errors import LimitAnalysisError
+from limit.estimates import Bounds, bounds_and_estimates, iterative_estimate
 from limit.problems import LimitSettings, build_static_problem
 from limit.solve import LimitResult, limit_analysis, solve_static
 
 __all__ = [
+    "Bounds",
     "LimitAnalysisError",
     "LimitResult",
     "LimitSettings",
+    "bounds_and_estimates",
     "build_static_problem",
+    "iterative_estimate",
     "limit_analysis",
     "solve_static",
 ]

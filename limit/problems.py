@@ -90,7 +90,9 @@ class LimitSettings:
         Exponent alpha of the interaction (seed 001, Eq. 14: 1.5 for masonry joints) [-], >= 1.
     friction_polygon : int, optional
         If given, replace every friction circle by the inscribed regular polygon with this
-        many sides (a smaller, still safe set). Default None: exact cones.
+        many sides (a smaller set: lambda can only decrease). Default None: exact cones. A
+        circumscribed polygon (facets tangent to the circle, as some public codes use)
+        enlarges the set and is never safe; it is deliberately not offered.
     tensile_strength : float
         Joint tensile strength [Pa] (0 for dry joints).
     compressive_strength : float, optional
