@@ -129,3 +129,14 @@ def test_tensile_strength_closed_forms(model):
     res = limit_analysis(sc, settings)
     np.testing.assert_allclose(res.lam, sigma_t * 0.4 * 0.3 / w2 - 1.0, rtol=RTOL)
     _certified(res)
+
+
+def test_validation_case_closed_forms_quick():
+    """Smoke test of ``python -m validation run limit-closed-forms --quick``: every row meets
+    its closed form to 1e-6."""
+    from validation.cases.limit import CASES
+
+    rows, notes = CASES["limit-closed-forms"](quick=True)
+    assert len(rows) >= 20 and notes
+    for row in rows:
+        assert row.rel_error is not None and row.rel_error < 1e-6, row.quantity
