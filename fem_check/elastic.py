@@ -1,21 +1,26 @@
-"""Linear elasticity of one free-floating block under DEM loads (scikit-fem, P1 or P2).
+r"""Linear elasticity of one free-floating block under DEM loads (scikit-fem, P1 or P2).
 
 A block of the assembly is in equilibrium under its contact forces, weight and d'Alembert load
-but is not held anywhere: its stiffness matrix is singular with the six rigid-body modes as
-kernel. The rigid part of the displacement is fixed by six Lagrange multipliers,
+but is not held anywhere: its stiffness matrix is singular with the six rigid-body modes ``R``
+(translations, small rotations about the centroid) as kernel. The problem solved is the one
+with six Lagrange multipliers,
 
 .. math::
 
-    \\begin{bmatrix} K & C^T \\\\ C & 0 \\end{bmatrix}
-    \\begin{bmatrix} u \\\\ \\lambda \\end{bmatrix} =
-    \\begin{bmatrix} f \\\\ 0 \\end{bmatrix}, \\qquad C = R^T M,
+    K u + M R \lambda = f, \qquad R^T M u = 0,
 
-with ``R`` the rigid-body modes (translations, small rotations about the centroid) and ``M``
-the mass matrix of unit density: ``C u = 0`` says the mean displacement and the mean rotation
-of the block are zero. For an equilibrated load ``R^T f = 0`` and the multipliers vanish; in
-general ``C^T lambda`` takes out exactly the load's resultant as a rigid-body body force, so the
-imbalance is checked *before* the solve (:func:`fem_check.loads.check_equilibrium`) and never
-hidden. The saddle-point matrix is factorised once per block shape (SuperLU) and reused.
+(``M``: mass matrix of unit density): the mean displacement and the mean rotation of the block
+vanish, and ``M R lambda`` is a rigid-body-acceleration body force that carries the load's
+resultant, zero for a balanced load. The load's imbalance is checked *before* the solve
+(:func:`fem_check.loads.check_equilibrium`) and never hidden.
+
+It is solved exactly without the saddle-point matrix (whose six dense rows ruin the sparse
+factorisation): multiplying by ``R^T`` gives :math:`\lambda = (R^T M R)^{-1} R^T f`; the
+balanced load :math:`f - M R \lambda` is applied to the block held at six dofs of three
+corners (an isostatic 3-2-1 support, whose reactions are then exactly zero because ``R`` is
+non-singular on those dofs), and the rigid part is removed afterwards,
+:math:`u \leftarrow u - R (R^T M R)^{-1} R^T M u`. The reduced stiffness is symmetric
+positive definite and factorised once per block shape (SuperLU, symmetric mode).
 """
 
 from __future__ import annotations
@@ -24,9 +29,9 @@ import logging
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
+from itertools import combinations
 
 import numpy as np
-import scipy.sparse as sp
 import skfem
 from scipy.sparse.linalg import splu
 from scipy.spatial import cKDTree
@@ -140,22 +145,51 @@ class ShapeOperator:
             rot = _cross_any(np.eye(3)[c], r)  # e_c x r at every dof location
             modes[:, 3 + c] = rot[np.arange(self.n_dofs), comp]
         self.modes = modes
-        self._constraint = (self.mass @ modes).T  # (6, n_dofs)
         self._facets()
+
+    def _anchor_dofs(self) -> np.ndarray:
+        """Six dofs of three far-apart vertices on which the rigid modes are non-singular."""
+        pts = self.tet_mesh.mesh.p.T
+        a = int(np.argmax(np.linalg.norm(pts - self.reference.centroid, axis=1)))
+        b = int(np.argmax(np.linalg.norm(pts - pts[a], axis=1)))
+        ab = (pts[b] - pts[a]) / np.linalg.norm(pts[b] - pts[a])
+        rel = pts - pts[a]
+        c = int(np.argmax(np.linalg.norm(rel - np.outer(rel @ ab, ab), axis=1)))
+        # vertex dofs come first in skfem's numbering, interleaved x, y, z
+        cand = np.array([3 * v + k for v in (a, b, c) for k in range(3)])
+        best = max(
+            combinations(range(9), 6),
+            key=lambda sel: abs(np.linalg.det(self.modes[cand[list(sel)]])),
+        )
+        return cand[list(best)]
 
     @cached_property
     def factor(self):
-        """SuperLU factors of the saddle-point matrix (built on first use)."""
-        k_scale = float(np.mean(self.stiffness.diagonal()))
-        self._c_scale = k_scale / float(np.abs(self._constraint).max())
-        c = sp.csr_matrix(self._constraint * self._c_scale)
-        a = sp.bmat([[self.stiffness, c.T], [c, None]], format="csc")
-        return splu(a)
+        """SuperLU factors of the stiffness held at the six anchor dofs (built on first use)."""
+        self._anchors = self._anchor_dofs()
+        self._free = np.setdiff1d(np.arange(self.n_dofs), self._anchors)
+        self._gram = self.modes.T @ (self.mass @ self.modes)
+        k_red = self.stiffness[self._free][:, self._free].tocsc()
+        return splu(
+            k_red,
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
 
     def solve(self, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Displacement (n_dofs,) [m] and multipliers (6,) of a load vector (n_dofs,) [N]."""
-        sol = self.factor.solve(np.concatenate([f, np.zeros(6)]))
-        return sol[: self.n_dofs], sol[self.n_dofs :] * self._c_scale
+        """Displacement (n_dofs,) [m] and multipliers (6,) of a load vector (n_dofs,) [N].
+
+        The multipliers are the rigid-body acceleration (per unit density) that the load's
+        resultant would cause: zero for a balanced load.
+        """
+        factor = self.factor
+        lam = np.linalg.solve(self._gram, self.modes.T @ f)
+        f_bal = f - self.mass @ (self.modes @ lam)
+        u = np.zeros(self.n_dofs)
+        u[self._free] = factor.solve(f_bal[self._free])
+        u -= self.modes @ np.linalg.solve(self._gram, self.modes.T @ (self.mass @ u))
+        return u, lam
 
     # -- boundary facets and point evaluation ----------------------------------------------
     def _facets(self):
