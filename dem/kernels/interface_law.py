@@ -1,0 +1,346 @@
+r"""Resultant interface law of seed 001 (Eqs. (8)-(14), (A5)): return mapping and tangent.
+
+One interface carries the actions ``f = (N, V1, V2, M1, M2, M3)`` [N, N m] (``N > 0`` in
+tension) conjugate to the relative motion ``q = (dn, dt1, dt2, phi1, phi2, phi3)`` [m, rad]
+of block b with respect to block a (see :mod:`dem.geometry.compatibility`). Elastically
+``f = diag(k) (q - q_p)`` with ``k = (k_n A, k_t A, k_t A, k_r J_22, k_r J_11, k_t J_p)``.
+
+The law, elastic-perfectly plastic with the seed's interactions:
+
+- detachment (Eq. 8-9, 13): if ``N = k_0 dn > f_t`` all actions vanish; a mortared joint
+  (``f_t > 0``) is then broken for good and behaves as a dry joint (``f_t = c = 0``);
+- rocking (Eq. 9): ``-(f_t - N) l^-_i <= M_i <= (f_t - N) l^+_i`` for ``i = 1, 2``, where
+  ``l^\pm`` are the distances from the interface centroid to the polygon's edges on the side
+  of the hinge (``l_c1 = s/2``, ``l_c2 = b/4`` for a bed joint of seed 001);
+- shear and torsion (Eq. 10, 12, 14, A5):
+  ``(|M3| / M_{3u})^\alpha + (V_1^2 + V_2^2) / V_u^2 <= 1`` with ``V_u = c + \mu (-N)``
+  (``c = \mu f_t`` in the seed) and ``M_{3u} = c_T V_u``, ``c_T`` the mean distance to the
+  centroid of the compressed rectangle reduced by the eccentricities ``M/(f_t - N)``
+  (Orduna & Lourenco's uniform-stress hypothesis, seed Fig. 10). A trial point outside is
+  scaled radially back onto the surface; ``alpha`` blends the three columns of seed Table A1
+  at the interface's aspect ratio (seed Table A1, column ``f1 = f2``, the intermediate value the
+seed recommends for a single exponent).
+
+The normal response has no plastic part (a gap); plastic rotations and slips are kept in
+``q_p``. The tangent ``D = df/dq`` keeps the dependence of the rocking and friction limits on
+the normal force (non-symmetric); yielded components keep ``floor`` times their elastic
+stiffness so that a stiffness matrix stays invertible away from true mechanisms.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+STATE_ELASTIC = 0
+STATE_SHEAR = 1  # bit: sliding / torsion on the yield surface
+STATE_FLEXURE = 2  # bit: rocking limit reached about t1 or t2
+STATE_DETACHED = 4  # the whole interface is open (exclusive)
+
+
+@njit(cache=True)
+def torsion_coefficient(l1, l2):
+    """Mean distance ``c_T`` [m] of a ``l1 x l2`` rectangle's points to its centre.
+
+    Closed form of ``(1/A) int sqrt(y1^2 + y2^2) dA``; a segment (one side 0) gives ``l / 4``,
+    a point 0.
+    """
+    # a rectangle shrunk to a segment keeps the segment's mean distance l / 4
+    if l1 <= 0.0 and l2 <= 0.0:
+        return 0.0
+    if l2 <= 1e-12 * l1:
+        return 0.25 * l1
+    if l1 <= 1e-12 * l2:
+        return 0.25 * l2
+    d = math.sqrt(l1 * l1 + l2 * l2)
+    t1 = l1 * l1 / (2.0 * l2) * math.log((l2 + d) / l1)
+    t2 = l2 * l2 / (2.0 * l1) * math.log((l1 + d) / l2)
+    return (d + t1 + t2) / 6.0
+
+
+@njit(cache=True)
+def _surface_scale(a, b, alpha):
+    """Root ``s`` in (0, 1] of ``(s a)^alpha + s^2 b = 1`` (Newton from the right, convex)."""
+    s = 1.0
+    for _ in range(60):
+        ga = (s * a) ** alpha if a > 0.0 else 0.0
+        g = ga + s * s * b - 1.0
+        if abs(g) < 1e-13:
+            break
+        dg = (alpha * ga / s if a > 0.0 else 0.0) + 2.0 * s * b
+        if dg <= 0.0:
+            break
+        s_new = s - g / dg
+        if s_new <= 0.0:
+            s_new = 0.5 * s
+        s = s_new
+    return s
+
+
+@njit(cache=True)
+def resultant_law_one(
+    q, qp, is_broken, k, lever, f_t, cohesion, mu, dims, alpha, floor, out_f, out_qp, out_D
+):
+    """Return mapping of one interface (seed 001, Eqs. (8)-(14), (A5)).
+
+    Parameters
+    ----------
+    q : (6,) float64
+        Total relative motion ``(dn, dt1, dt2, phi1, phi2, phi3)`` [m, rad].
+    qp : (6,) float64
+        Plastic part at the last converged state (``qp[0]`` unused) [m, rad].
+    is_broken : bool
+        Tensile strength and cohesion already lost.
+    k : (6,) float64
+        Elastic stiffnesses ``(k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)`` [N/m, N m/rad].
+    lever : (4,) float64
+        ``(l1+, l1-, l2+, l2-)`` rocking lever arms for ``M1 > 0``, ``M1 < 0``, ``M2 > 0``,
+        ``M2 < 0`` [m].
+    f_t, cohesion : float
+        Tensile strength and cohesion forces of the interface ``sigma_t A``, ``c A`` [N].
+    mu : float
+        Friction coefficient [-].
+    dims : (2,) float64
+        Extents ``(l1, l2)`` of the interface along ``t1, t2`` [m] (for ``c_T``).
+    alpha : float
+        Exponent of Eq. (A5) [-].
+    floor : float
+        Fraction of the elastic stiffness kept by yielded components of the tangent [-].
+    out_f : (6,) float64
+        Output actions ``(N, V1, V2, M1, M2, M3)`` [N, N m].
+    out_qp : (6,) float64
+        Output plastic motion.
+    out_D : (6, 6) float64
+        Output tangent ``df/dq``.
+
+    Returns
+    -------
+    is_broken : bool
+    state : int
+        Bit set of ``STATE_SHEAR``, ``STATE_FLEXURE``, or ``STATE_DETACHED``.
+    """
+    ft = f_t
+    c = cohesion
+    if is_broken:
+        ft = 0.0
+        c = 0.0
+    out_D[:, :] = 0.0
+    n_force = k[0] * q[0]
+    if n_force > ft:
+        # detachment (Eq. 13): no action; the slips follow the motion so that re-contact
+        # starts unloaded
+        for i in range(6):
+            out_f[i] = 0.0
+            out_qp[i] = q[i]
+            out_D[i, i] = floor * k[i]
+        out_qp[0] = 0.0
+        return is_broken or f_t > 0.0, STATE_DETACHED
+    state = STATE_ELASTIC
+    out_f[0] = n_force
+    out_qp[0] = 0.0
+    out_D[0, 0] = k[0]
+    cap = ft - n_force  # >= 0
+    # rocking about t1 (M1) and t2 (M2), Eq. (9)
+    for j in range(2):
+        i = 3 + j
+        m_trial = k[i] * (q[i] - qp[i])
+        hi = cap * lever[2 * j]
+        lo = -cap * lever[2 * j + 1]
+        if m_trial > hi:
+            out_f[i] = hi
+            out_qp[i] = q[i] - hi / k[i]
+            out_D[i, i] = floor * k[i]
+            out_D[i, 0] = -k[0] * lever[2 * j]
+            state |= STATE_FLEXURE
+        elif m_trial < lo:
+            out_f[i] = lo
+            out_qp[i] = q[i] - lo / k[i]
+            out_D[i, i] = floor * k[i]
+            out_D[i, 0] = k[0] * lever[2 * j + 1]
+            state |= STATE_FLEXURE
+        else:
+            out_f[i] = m_trial
+            out_qp[i] = qp[i]
+            out_D[i, i] = k[i]
+    # shear and torsion, Eqs. (10), (12), (14), (A5)
+    v1 = k[1] * (q[1] - qp[1])
+    v2 = k[2] * (q[2] - qp[2])
+    m3 = k[5] * (q[5] - qp[5])
+    v_u = c - mu * n_force
+    if v_u <= 0.0 and v1 == 0.0 and v2 == 0.0 and m3 == 0.0:
+        # unloaded joint without capacity (a dry joint at N = 0): elastic tangent, so that
+        # the first iteration from the unloaded state sees the elastic stiffness
+        for i in (1, 2, 5):
+            out_f[i] = 0.0
+            out_qp[i] = qp[i]
+            out_D[i, i] = k[i]
+        return is_broken, state
+    if v_u <= 0.0:
+        for i in (1, 2, 5):
+            out_f[i] = 0.0
+            out_qp[i] = q[i]
+            out_D[i, i] = floor * k[i]
+        return is_broken, state | STATE_SHEAR
+    # compressed rectangle reduced by the eccentricities (uniform stress, seed Fig. 10)
+    e1 = abs(out_f[4]) / cap if cap > 0.0 else 0.0  # lever of M2 lies along y1
+    e2 = abs(out_f[3]) / cap if cap > 0.0 else 0.0
+    r1 = dims[0] - 2.0 * e1
+    r2 = dims[1] - 2.0 * e2
+    if r1 < 0.0:
+        r1 = 0.0
+    if r2 < 0.0:
+        r2 = 0.0
+    c_t = torsion_coefficient(r1, r2)
+    m_u = c_t * v_u
+    torsion_free = m_u <= 0.0
+    if torsion_free:
+        # no torsion capacity left (a corner hinge): torsion is free
+        a = 0.0
+        if m3 != 0.0:
+            state |= STATE_SHEAR
+        m3 = 0.0
+    else:
+        a = abs(m3) / m_u
+    b = (v1 * v1 + v2 * v2) / (v_u * v_u)
+    value = (a**alpha if a > 0.0 else 0.0) + b
+    if value <= 1.0:
+        out_f[1] = v1
+        out_f[2] = v2
+        out_f[5] = m3
+        for i in (1, 2, 5):
+            out_qp[i] = qp[i]
+            out_D[i, i] = k[i]
+        if torsion_free:
+            out_qp[5] = q[5]
+            out_D[5, 5] = floor * k[5]
+        return is_broken, state
+    s = _surface_scale(a, b, alpha)
+    out_f[1] = s * v1
+    out_f[2] = s * v2
+    out_f[5] = s * m3
+    for i in (1, 2, 5):
+        out_qp[i] = q[i] - out_f[i] / k[i]
+    # Consistent tangent of the radial return f = s t on F(f; V_u, M_u) = 1:
+    # dF = g . (t ds + s dt) + F_V dV_u + F_M dM_u = 0, with g = dF/df at f.
+    t0, t1, t2 = v1, v2, m3
+    g0 = 2.0 * out_f[1] / (v_u * v_u)
+    g1 = 2.0 * out_f[2] / (v_u * v_u)
+    g2 = 0.0
+    f_m = 0.0
+    if not torsion_free and out_f[5] != 0.0:
+        ratio = abs(out_f[5]) / m_u
+        g2 = alpha * ratio ** (alpha - 1.0) / m_u
+        if out_f[5] < 0.0:
+            g2 = -g2
+        f_m = -alpha * ratio**alpha / m_u
+    f_v = -2.0 * (out_f[1] ** 2 + out_f[2] ** 2) / (v_u**3)
+    gt = g0 * t0 + g1 * t1 + g2 * t2
+    # derivatives of V_u and M_u along q (row vectors)
+    dvu = np.zeros(6)
+    dvu[0] = -mu * k[0]
+    dmu = np.zeros(6)
+    for j in range(6):
+        dmu[j] = c_t * dvu[j]
+    if not torsion_free and cap > 0.0:
+        h = 1e-6 * (dims[0] + dims[1])
+        dc1 = 0.0
+        dc2 = 0.0
+        if r1 > 0.0:
+            dc1 = (torsion_coefficient(r1 + h, r2) - torsion_coefficient(max(r1 - h, 0.0), r2)) / (
+                r1 + h - max(r1 - h, 0.0)
+            )
+        if r2 > 0.0:
+            dc2 = (torsion_coefficient(r1, r2 + h) - torsion_coefficient(r1, max(r2 - h, 0.0))) / (
+                r2 + h - max(r2 - h, 0.0)
+            )
+        sg4 = 1.0 if out_f[4] >= 0.0 else -1.0
+        sg3 = 1.0 if out_f[3] >= 0.0 else -1.0
+        for j in range(6):
+            # e1 = |M2| / cap, e2 = |M1| / cap, cap = f_t - N
+            de1 = sg4 * out_D[4, j] / cap
+            de2 = sg3 * out_D[3, j] / cap
+            if j == 0:
+                de1 += abs(out_f[4]) * k[0] / (cap * cap)
+                de2 += abs(out_f[3]) * k[0] / (cap * cap)
+            dct = 0.0
+            if r1 > 0.0:
+                dct += dc1 * (-2.0 * de1)
+            if r2 > 0.0:
+                dct += dc2 * (-2.0 * de2)
+            dmu[j] += v_u * dct
+    idx = (1, 2, 5)
+    tv = (t0, t1, t2)
+    for j in range(6):
+        # ds/dq_j
+        dt_j = np.zeros(3)
+        for r in range(3):
+            if idx[r] == j:
+                dt_j[r] = k[j]
+        num = s * (g0 * dt_j[0] + g1 * dt_j[1] + g2 * dt_j[2]) + f_v * dvu[j] + f_m * dmu[j]
+        ds = -num / gt if gt > 0.0 else 0.0
+        for r in range(3):
+            out_D[idx[r], j] = s * dt_j[r] + tv[r] * ds
+    for r in range(3):
+        out_D[idx[r], idx[r]] += floor * k[idx[r]]
+    if torsion_free:
+        for j in range(6):
+            out_D[5, j] = 0.0
+        out_D[5, 5] = floor * k[5]
+    return is_broken, state | STATE_SHEAR
+
+
+@njit(cache=True)
+def resultant_law(
+    q,
+    qp,
+    is_broken,
+    k,
+    lever,
+    f_t,
+    cohesion,
+    mu,
+    dims,
+    alpha,
+    floor,
+    out_f,
+    out_qp,
+    out_broken,
+    out_state,
+    out_D,
+):
+    """Batch of :func:`resultant_law_one` over ``m`` interfaces.
+
+    Parameters
+    ----------
+    q, qp : (m, 6) float64
+    is_broken : (m,) bool
+    k : (m, 6) float64
+    lever : (m, 4) float64
+    f_t, cohesion, mu : (m,) float64
+    dims : (m, 2) float64
+    alpha : (m,) float64
+    floor : float
+    out_f, out_qp : (m, 6) float64
+    out_broken : (m,) bool
+    out_state : (m,) int64
+    out_D : (m, 6, 6) float64
+    """
+    for j in range(q.shape[0]):
+        brk, st = resultant_law_one(
+            q[j],
+            qp[j],
+            is_broken[j],
+            k[j],
+            lever[j],
+            f_t[j],
+            cohesion[j],
+            mu[j],
+            dims[j],
+            alpha[j],
+            floor,
+            out_f[j],
+            out_qp[j],
+            out_D[j],
+        )
+        out_broken[j] = brk
+        out_state[j] = st

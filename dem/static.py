@@ -1,0 +1,936 @@
+r"""Static DEM of rigid blocks with elastic-plastic interfaces, followed to collapse.
+
+The incremental analysis of seed 001 (Sec. 2.3), in general form:
+
+- unknowns: the 6 dofs ``(ux, uy, uz, rx, ry, rz)`` of every free block about its centroid;
+  fixed blocks and restrained dofs are eliminated, not penalised;
+- kinematics: ``q = H U`` from the actual interface and block centroids (Eq. (3) and
+  (A1)-(A3) are the running-bond special case), ``H`` from :mod:`dem.geometry.compatibility`;
+- interface law, selectable (:class:`StaticSettings`): ``"resultant"``, the seed's
+  elastic-perfectly-plastic law on ``(N, V1, V2, M1, M2, M3)``
+  (:mod:`dem.kernels.interface_law`), or ``"fibre"``, a grid of no-tension Mohr-Coulomb
+  springs per interface (:mod:`dem.kernels.fibre_law`);
+- equilibrium ``H^T f(q) = F_D + \lambda F_L``, the dead load applied first (load control),
+  then the live load followed by indirect displacement control: each step prescribes the
+  increment of the work-conjugate control displacement ``c = w^T U`` (``w`` the live pattern
+  normalised by its total force, so ``c`` is the live-load-weighted mean displacement [m]) and
+  solves the bordered Newton system for ``(dU, d lambda)``, which stays regular at the limit
+  point. The step adapts to the Newton iteration count; the analysis stops on a plateau (the
+  mechanism: ``d lambda / dc`` a small fraction of the initial slope for a few steps) or on a
+  drop after the peak.
+
+Units SI: m, N, Pa, rad.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from dem.geometry.interfaces import Interfaces
+from dem.kernels.fibre_law import fibre_law
+from dem.kernels.interface_law import (
+    STATE_DETACHED,
+    STATE_ELASTIC,
+    STATE_FLEXURE,
+    STATE_SHEAR,
+    resultant_law,
+)
+from dem.kernels.stiffness import (
+    block_forces,
+    local_compatibility,
+    relative_motion,
+    stiffness_triplets,
+)
+from dem.scene import DOFS, Scene
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "ALPHA_TABLE_A1",
+    "STATE_DETACHED",
+    "STATE_ELASTIC",
+    "STATE_FLEXURE",
+    "STATE_SHEAR",
+    "StaticResult",
+    "StaticSettings",
+    "StaticSolverError",
+    "solve_collapse",
+    "state_labels",
+]
+
+INTERFACE_MODELS = ("resultant", "fibre")
+
+ALPHA_TABLE_A1 = np.array(
+    [
+        # l1/l2, alpha(f1 only), alpha(f1 = f2), alpha(f2 only)   -- seed 001 Table A1
+        [0.1, 1.00, 2.00, 2.56],
+        [0.2, 1.05, 1.90, 2.44],
+        [0.5, 1.25, 1.70, 1.92],
+        [1.0, 1.43, 1.43, 1.43],
+        [2.0, 1.92, 1.70, 1.25],
+        [5.0, 2.44, 1.90, 1.05],
+        [10.0, 2.56, 2.00, 1.00],
+    ]
+)
+"""Exponents of seed 001 Eq. (A5) by interface aspect ratio and shear direction."""
+
+
+class StaticSolverError(RuntimeError):
+    """The static analysis cannot go on: singular stiffness, no convergence, NaN.
+
+    Attributes
+    ----------
+    blocks : list of int
+        Blocks identified as the cause (largest residual, unsupported), possibly empty.
+    interfaces : list of int
+        Interfaces identified as the cause (NaN actions, changing state), possibly empty.
+    lam : float or None
+        Load multiplier reached.
+    """
+
+    def __init__(self, message, blocks=(), interfaces=(), lam=None):
+        super().__init__(message)
+        self.blocks = [int(b) for b in blocks]
+        self.interfaces = [int(i) for i in interfaces]
+        self.lam = lam
+
+
+@dataclass(frozen=True)
+class StaticSettings:
+    """Settings of :func:`solve_collapse`.
+
+    Attributes
+    ----------
+    interface_model : {"resultant", "fibre"}
+        Seed 001's resultant law, or the grid of Coulomb springs.
+    kn, kt : float
+        Normal and tangential stiffness per unit area [Pa/m]. Default: seed 001 Sec. 2.1
+        (2.4 MPa/mm and 1 MPa/mm). The collapse load of rigid blocks does not depend on them.
+    kr : float or None
+        Rotational stiffness per unit area [Pa/m]; None: ``kn`` (seed 001, ``k_r = k_n``).
+    mu : float or None
+        Friction coefficient; None: the smaller of the two blocks' ``Assembly.mu``.
+    tensile_strength : float
+        [Pa]; 0 for dry joints.
+    cohesion : float or None
+        [Pa]; None: ``mu * tensile_strength`` (seed 001, Sec. 2.1).
+    tension_at_supports : bool
+        Whether interfaces with a fixed block get the tensile strength and cohesion (False
+        models a support as a dry hinge).
+    alpha : float or None
+        Exponent of Eq. (A5); None: seed Table A1 (column ``f1 = f2``) at each interface's
+        aspect ratio (resultant model only).
+    fibre_points : int
+        Gauss-Lobatto points per side of a rectangular interface (fibre model): the outer
+        springs lie on the edges, so rocking about an edge is exact.
+    load_step : float
+        First live-load increment as a fraction of ``lambda_scale = |F_D| / |F_L|`` (total
+        dead over total live force): for a live load equal to the weight, ``d lambda``.
+    max_step_factor : float
+        Largest control increment, in first increments.
+    max_steps : int
+        Live-load steps at most.
+    max_iterations : int
+        Newton iterations per step before the step is cut.
+    target_iterations : int
+        Iterations the step size adapts to.
+    tolerance : float
+        Relative residual ``|R| / (|F_D| + |lambda F_L|)`` for convergence.
+    accept_tolerance : float
+        A step whose Newton iterations stall (cycling at a kink of the law, e.g. a joint at
+        ``N -> 0``) is accepted if its best relative residual is below this; the residual is
+        of the total equilibrium, so the error does not accumulate. Counted in
+        ``StaticResult.n_loose_steps``.
+    tangent_floor : float
+        Fraction of the elastic stiffness kept by yielded components of the tangent.
+    min_step_ratio : float
+        Smallest control increment, relative to the first, before giving up a step.
+    plateau_slope : float
+        A step is on the collapse plateau when ``d lambda / d c`` is below this fraction of
+        the initial secant slope.
+    plateau_steps : int
+        Consecutive plateau steps that end the analysis.
+    softening_drop : float
+        End when lambda falls below ``(1 - softening_drop) lambda_max``.
+    dead_steps : int
+        Increments of the dead load.
+    monitor : tuple of (int, int) or None
+        ``(block, dof)`` whose displacement the pushover also records; None: the free block
+        with the largest live-direction translation in the mechanism.
+    """
+
+    interface_model: str = "resultant"
+    kn: float = 2.4e9
+    kt: float = 1.0e9
+    kr: float | None = None
+    mu: float | None = None
+    tensile_strength: float = 0.0
+    cohesion: float | None = None
+    tension_at_supports: bool = True
+    alpha: float | None = None
+    fibre_points: int = 5
+    load_step: float = 0.01
+    max_step_factor: float = 200.0
+    max_steps: int = 400
+    max_iterations: int = 30
+    target_iterations: int = 6
+    tolerance: float = 1e-6
+    accept_tolerance: float = 1e-4
+    tangent_floor: float = 1e-9
+    min_step_ratio: float = 1e-4
+    plateau_slope: float = 2e-3
+    plateau_steps: int = 4
+    softening_drop: float = 0.2
+    dead_steps: int = 1
+    monitor: tuple[int, int] | None = None
+
+    def __post_init__(self):
+        if self.interface_model not in INTERFACE_MODELS:
+            raise ValueError(
+                f"interface_model must be one of {INTERFACE_MODELS}, got {self.interface_model!r}"
+            )
+        for name in ("kn", "kt", "load_step", "tolerance", "accept_tolerance", "max_step_factor"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"{name} must be a finite positive number, got {v!r}")
+        for name in ("kr", "cohesion"):
+            v = getattr(self, name)
+            if v is not None and not (math.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be None or finite and >= 0, got {v!r}")
+        if self.kr is not None and self.kr <= 0:
+            raise ValueError(f"kr must be positive, got {self.kr}")
+        if self.mu is not None and not (math.isfinite(self.mu) and self.mu >= 0):
+            raise ValueError(f"mu must be None or finite and >= 0, got {self.mu!r}")
+        if not (math.isfinite(self.tensile_strength) and self.tensile_strength >= 0):
+            raise ValueError(f"tensile_strength must be >= 0 [Pa], got {self.tensile_strength}")
+        if self.alpha is not None and not (math.isfinite(self.alpha) and self.alpha >= 1):
+            raise ValueError(f"alpha must be None or >= 1, got {self.alpha}")
+        for name in (
+            "fibre_points",
+            "max_steps",
+            "max_iterations",
+            "target_iterations",
+            "plateau_steps",
+            "dead_steps",
+        ):
+            v = getattr(self, name)
+            low = 2 if name == "fibre_points" else 1
+            if isinstance(v, bool) or int(v) != v or v < low:
+                raise ValueError(f"{name} must be an integer >= {low}, got {v!r}")
+        for name in ("tangent_floor", "min_step_ratio", "plateau_slope", "softening_drop"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and 0 <= v < 1):
+                raise ValueError(f"{name} must be in [0, 1), got {v!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class StaticResult:
+    """Outcome of :func:`solve_collapse`.
+
+    Attributes
+    ----------
+    lambda_max : float
+        Largest live-load multiplier reached (the collapse multiplier) [-, or Pa for a
+        pressure pattern].
+    pushover_lambda : (n_points,) float
+        Multiplier along the path, starting at 0 after the dead load.
+    pushover_control : (n_points,) float
+        Control displacement ``c`` (live-load-weighted mean displacement) [m].
+    pushover_monitor : (n_points,) float
+        Displacement of the monitored dof [m or rad].
+    monitor : tuple of (int, int)
+        ``(block, dof)`` monitored.
+    interface_state : (m,) int64
+        State at the end (the mechanism): 0 elastic, bit 1 shear, bit 2 flexure, 4 detached.
+    interface_state_at_peak : (m,) int64
+        State at the converged point of ``lambda_max``.
+    interface_forces : (m, 6) float
+        ``(N, V1, V2, M1, M2, M3)`` [N, N m] in the interface frame at ``lambda_max``.
+    interface_forces_end : (m, 6) float
+        The same at the end.
+    mechanism : (n_blocks, 6) float
+        Incremental displacements of the last step, scaled to a largest translation of 1
+        (zero for fixed blocks and restrained dofs).
+    displacements : (n_blocks, 6) float
+        Total displacements at the end [m, rad].
+    displacements_at_peak : (n_blocks, 6) float
+        At ``lambda_max``.
+    block_a, block_b : (m,) int64
+        Blocks of each interface.
+    n_steps, n_iterations : int
+        Converged live steps, Newton iterations in all.
+    n_loose_steps : int
+        Steps accepted with ``accept_tolerance`` rather than ``tolerance``.
+    termination : str
+        ``"plateau"``, ``"softening"`` or ``"max_steps"``.
+    wall_s : float
+        Wall time [s].
+    settings : dict
+    """
+
+    lambda_max: float
+    pushover_lambda: np.ndarray
+    pushover_control: np.ndarray
+    pushover_monitor: np.ndarray
+    monitor: tuple[int, int]
+    interface_state: np.ndarray
+    interface_state_at_peak: np.ndarray
+    interface_forces: np.ndarray
+    interface_forces_end: np.ndarray
+    mechanism: np.ndarray
+    displacements: np.ndarray
+    displacements_at_peak: np.ndarray
+    block_a: np.ndarray
+    block_b: np.ndarray
+    n_steps: int
+    n_iterations: int
+    n_loose_steps: int
+    termination: str
+    wall_s: float
+    settings: dict = field(default_factory=dict)
+
+    @property
+    def pushover(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(control displacement [m], lambda)`` along the path."""
+        return self.pushover_control, self.pushover_lambda
+
+
+def state_labels(state: np.ndarray) -> np.ndarray:
+    """Damage-map category of each interface: "elastic", "shear", "flexural", "detached".
+
+    Flexure (rocking hinge) wins over shear when both bits are set, as in seed 001 Figs. 20-21.
+    """
+    state = np.asarray(state)
+    out = np.full(state.shape, "elastic", dtype=object)
+    out[(state & STATE_SHEAR) > 0] = "shear"
+    out[(state & STATE_FLEXURE) > 0] = "flexural"
+    out[state == STATE_DETACHED] = "detached"
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# model set-up
+# ----------------------------------------------------------------------------------------------
+
+
+def interface_alpha(l1: np.ndarray, l2: np.ndarray, alpha: float | None = None) -> np.ndarray:
+    """Exponent of seed 001 Eq. (A5) per interface.
+
+    ``alpha`` if given, else seed Table A1, column ``f1 = f2`` (between the two single-shear
+    columns; 1.43 for square interfaces), interpolated in ``log(l1 / l2)``.
+    """
+    if alpha is not None:
+        return np.full(len(l1), float(alpha))
+    ratio = np.clip(l1 / l2, ALPHA_TABLE_A1[0, 0], ALPHA_TABLE_A1[-1, 0])
+    return np.interp(np.log(ratio), np.log(ALPHA_TABLE_A1[:, 0]), ALPHA_TABLE_A1[:, 2])
+
+
+def _lobatto(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Lobatto points and weights on [-1, 1] (``n >= 2``)."""
+    if n == 2:
+        return np.array([-1.0, 1.0]), np.array([1.0, 1.0])
+    inner = np.polynomial.legendre.Legendre.basis(n - 1).deriv().roots()
+    x = np.concatenate([[-1.0], np.sort(inner.real), [1.0]])
+    p = np.polynomial.legendre.Legendre.basis(n - 1)(x)
+    w = 2.0 / (n * (n - 1) * p**2)
+    return x, w
+
+
+def _fibre_grid(interfaces: Interfaces, n_pts: int):
+    """Spring positions and areas of every interface (Lobatto grid on rectangles)."""
+    x, w = _lobatto(n_pts)
+    ptr = [0]
+    pos_all, area_all = [], []
+    for k in range(interfaces.n_interfaces):
+        poly = interfaces.local_polygon(k)
+        lo, hi = poly.min(0), poly.max(0)
+        size = hi - lo
+        area = interfaces.area[k]
+        if abs(size[0] * size[1] - area) <= 1e-6 * area:
+            c = 0.5 * (lo + hi)
+            g1, g2 = np.meshgrid(c[0] + 0.5 * size[0] * x, c[1] + 0.5 * size[1] * x, indexing="ij")
+            wa = np.outer(w, w).ravel() * 0.25 * size[0] * size[1]
+            pos = np.column_stack([g1.ravel(), g2.ravel()])
+        else:
+            # general convex polygon: midpoint cells of the bounding box inside the polygon
+            n_cells = 4 * n_pts
+            t = (np.arange(n_cells) + 0.5) / n_cells
+            g1, g2 = np.meshgrid(lo[0] + size[0] * t, lo[1] + size[1] * t, indexing="ij")
+            pts = np.column_stack([g1.ravel(), g2.ravel()])
+            inside = np.ones(len(pts), dtype=bool)
+            for i in range(len(poly)):
+                e = poly[(i + 1) % len(poly)] - poly[i]
+                r = pts - poly[i]
+                inside &= e[0] * r[:, 1] - e[1] * r[:, 0] >= -1e-12 * size.max() ** 2
+            pos = pts[inside]
+            wa = np.full(len(pos), area / max(len(pos), 1))
+        pos_all.append(pos)
+        area_all.append(wa)
+        ptr.append(ptr[-1] + len(pos))
+    return (
+        np.array(ptr, dtype=np.int64),
+        np.ascontiguousarray(np.concatenate(pos_all)),
+        np.concatenate(area_all),
+    )
+
+
+class _Model:
+    """Arrays of one scene for the kernels, and the committed interface state."""
+
+    def __init__(self, scene: Scene, settings: StaticSettings):
+        self.scene = scene
+        self.settings = settings
+        assembly = scene.assembly
+        itf = assembly.interfaces()
+        if itf.n_interfaces == 0:
+            raise ValueError("the scene has no interfaces: every block is isolated")
+        self.itf = itf
+        n = assembly.n_blocks
+        self.n_blocks = n
+        free = scene.supports.free_dofs
+        if not free.any():
+            raise ValueError("the scene has no free dof: every block is fixed or restrained")
+        self.dof_index = np.full((n, 6), -1, dtype=np.int64)
+        self.dof_index[free] = np.arange(int(free.sum()))
+        self.n_free = int(free.sum())
+        self.free_mask = free
+        self._check_supported()
+
+        self.a = np.ascontiguousarray(itf.block_a, dtype=np.int64)
+        self.b = np.ascontiguousarray(itf.block_b, dtype=np.int64)
+        self.B = local_compatibility(
+            self.a,
+            self.b,
+            np.ascontiguousarray(itf.centroid, dtype=np.float64),
+            np.ascontiguousarray(assembly.centroid, dtype=np.float64),
+            np.ascontiguousarray(itf.frame, dtype=np.float64),
+        )
+        m = itf.n_interfaces
+        self.m = m
+        s = settings
+        kr = s.kn if s.kr is None else s.kr
+        area = itf.area
+        j11, j22 = itf.second_moments[:, 0], itf.second_moments[:, 1]
+        self.k = np.ascontiguousarray(
+            np.column_stack(
+                [s.kn * area, s.kt * area, s.kt * area, kr * j22, kr * j11, s.kt * (j11 + j22)]
+            )
+        )
+        if s.mu is not None:
+            mu = np.full(m, float(s.mu))
+        elif assembly.mu is not None:
+            mu = np.minimum(assembly.mu[self.a], assembly.mu[self.b])
+        else:
+            raise ValueError("no friction coefficient: set StaticSettings.mu or Assembly.mu")
+        self.mu = np.ascontiguousarray(mu, dtype=np.float64)
+        sigma_t = s.tensile_strength
+        cohesion = self.mu * sigma_t if s.cohesion is None else np.full(m, s.cohesion)
+        tension = np.full(m, sigma_t)
+        if not s.tension_at_supports:
+            fixed = scene.supports.fixed
+            at_support = fixed[self.a] | fixed[self.b]
+            tension[at_support] = 0.0
+            cohesion = np.where(at_support, 0.0, cohesion)
+        self.sigma_t = np.ascontiguousarray(tension, dtype=np.float64)
+        self.cohesion_stress = np.ascontiguousarray(cohesion, dtype=np.float64)
+        lever = np.zeros((m, 4))
+        dims = np.zeros((m, 2))
+        for i in range(m):
+            poly = itf.local_polygon(i)
+            lo, hi = poly.min(0), poly.max(0)
+            lever[i] = (-lo[1], hi[1], hi[0], -lo[0])
+            dims[i] = hi - lo
+        self.lever = lever
+        self.dims = dims
+        self.alpha = np.ascontiguousarray(interface_alpha(dims[:, 0], dims[:, 1], s.alpha))
+        self.f_t = np.ascontiguousarray(self.sigma_t * area)
+        self.c_force = np.ascontiguousarray(self.cohesion_stress * area)
+        if s.interface_model == "fibre":
+            self.spring_ptr, self.spring_pos, self.spring_area = _fibre_grid(itf, s.fibre_points)
+            ns = len(self.spring_area)
+            self.kn_arr = np.full(m, s.kn)
+            self.kt_arr = np.full(m, s.kt)
+            self.slip = np.zeros((ns, 2))
+            self.spring_broken = np.zeros(ns, dtype=np.bool_)
+        else:
+            self.qp = np.zeros((m, 6))
+            self.broken = np.zeros(m, dtype=np.bool_)
+
+        # loads on the unknowns
+        self.F_dead = scene.dead_wrench[free]
+        self.F_live = scene.loads.live_wrench[free]
+        is_force = np.broadcast_to(np.arange(6) < 3, (n, 6))[free]
+        live_force = np.abs(self.F_live[is_force]).sum()
+        if live_force == 0:
+            raise ValueError("the live load is zero on every free dof: nothing to scale")
+        dead_force = np.abs(self.F_dead[is_force]).sum()
+        self.lambda_scale = dead_force / live_force if dead_force > 0 else 1.0
+        # control c = w . u: the live-load-weighted mean displacement [m]
+        self.w = self.F_live / live_force
+        self.state = np.zeros(m, dtype=np.int64)
+
+    # -- supports -----------------------------------------------------------------------------
+    def _check_supported(self):
+        """Every block must reach a support through interfaces, else K is singular."""
+        itf = self.itf
+        n = self.n_blocks
+        graph = sp.coo_matrix((np.ones(itf.n_interfaces), (itf.block_a, itf.block_b)), shape=(n, n))
+        n_comp, label = sp.csgraph.connected_components(graph, directed=False)
+        held = self.scene.supports.fixed | self.scene.supports.restrained.any(axis=1)
+        for comp in range(n_comp):
+            members = np.flatnonzero(label == comp)
+            if not held[members].any():
+                raise StaticSolverError(
+                    f"blocks {members[:10].tolist()}{' ...' if len(members) > 10 else ''} "
+                    "reach no support through their interfaces: the stiffness is singular "
+                    "(a mechanism before any load). Fix a block or add a foundation.",
+                    blocks=members,
+                )
+
+    # -- interface law ------------------------------------------------------------------------
+    def evaluate(self, U: np.ndarray, floor: float | None = None):
+        """Trial actions, tangents, states and block forces for total block dofs ``U``."""
+        m = self.m
+        q = np.empty((m, 6))
+        relative_motion(self.B, self.a, self.b, U, q)
+        f = np.empty((m, 6))
+        D = np.empty((m, 6, 6))
+        state = np.empty(m, dtype=np.int64)
+        if floor is None:
+            floor = self.settings.tangent_floor
+        if self.settings.interface_model == "resultant":
+            qp = np.empty((m, 6))
+            broken = np.empty(m, dtype=np.bool_)
+            resultant_law(
+                q,
+                self.qp,
+                self.broken,
+                self.k,
+                self.lever,
+                self.f_t,
+                self.c_force,
+                self.mu,
+                self.dims,
+                self.alpha,
+                floor,
+                f,
+                qp,
+                broken,
+                state,
+                D,
+            )
+            trial = (qp, broken)
+        else:
+            slip = np.empty_like(self.slip)
+            broken = np.empty_like(self.spring_broken)
+            fibre_law(
+                q,
+                self.spring_ptr,
+                self.spring_pos,
+                self.spring_area,
+                self.slip,
+                self.spring_broken,
+                self.kn_arr,
+                self.kt_arr,
+                self.mu,
+                self.cohesion_stress,
+                self.sigma_t,
+                floor,
+                f,
+                slip,
+                broken,
+                state,
+                D,
+            )
+            trial = (slip, broken)
+        F = np.empty((self.n_blocks, 6))
+        block_forces(self.B, self.a, self.b, f, F)
+        return f, D, state, trial, F[self.free_mask]
+
+    def commit(self, trial, state):
+        if self.settings.interface_model == "resultant":
+            self.qp, self.broken = trial[0].copy(), trial[1].copy()
+        else:
+            self.slip, self.spring_broken = trial[0].copy(), trial[1].copy()
+        self.state = state.copy()
+
+    def snapshot(self):
+        if self.settings.interface_model == "resultant":
+            return (self.qp.copy(), self.broken.copy(), self.state.copy())
+        return (self.slip.copy(), self.spring_broken.copy(), self.state.copy())
+
+    def restore(self, snap):
+        if self.settings.interface_model == "resultant":
+            self.qp, self.broken = snap[0].copy(), snap[1].copy()
+        else:
+            self.slip, self.spring_broken = snap[0].copy(), snap[1].copy()
+        self.state = snap[2].copy()
+
+    def stiffness(self, D: np.ndarray) -> sp.csc_matrix:
+        rows, cols, vals = stiffness_triplets(self.B, D, self.a, self.b, self.dof_index)
+        return sp.csc_matrix((vals, (rows, cols)), shape=(self.n_free, self.n_free))
+
+    def full(self, u_free: np.ndarray) -> np.ndarray:
+        U = np.zeros((self.n_blocks, 6))
+        U[self.free_mask] = u_free
+        return U
+
+    def block_of_dof(self, i: int) -> tuple[int, str]:
+        blk, dof = np.argwhere(self.dof_index == i)[0]
+        return int(blk), DOFS[int(dof)]
+
+
+# ----------------------------------------------------------------------------------------------
+# Newton iterations
+# ----------------------------------------------------------------------------------------------
+
+
+def _factor(A: sp.csc_matrix):
+    try:
+        return spla.splu(A, permc_spec="COLAMD")
+    except RuntimeError as exc:  # "Factor is exactly singular"
+        return exc
+
+
+def _check_finite(model: _Model, f: np.ndarray, R: np.ndarray, lam: float):
+    if np.all(np.isfinite(f)) and np.all(np.isfinite(R)):
+        return
+    bad_itf = np.flatnonzero(~np.isfinite(f).all(axis=1))
+    bad_dof = np.flatnonzero(~np.isfinite(R))
+    blocks = sorted({model.block_of_dof(int(i))[0] for i in bad_dof[:20]})
+    raise StaticSolverError(
+        f"NaN or inf at lambda = {lam:.6g}: interfaces {bad_itf[:10].tolist()}, blocks "
+        f"{blocks[:10]}",
+        blocks=blocks,
+        interfaces=bad_itf[:10],
+        lam=lam,
+    )
+
+
+def _bordered(K: sp.csc_matrix, F_live: np.ndarray, w: np.ndarray) -> sp.csc_matrix:
+    n = K.shape[0]
+    Kc = K.tocoo()
+    nz_f = np.flatnonzero(F_live)
+    nz_w = np.flatnonzero(w)
+    rows = np.concatenate([Kc.row, nz_f, np.full(len(nz_w), n)])
+    cols = np.concatenate([Kc.col, np.full(len(nz_f), n), nz_w])
+    vals = np.concatenate([Kc.data, -F_live[nz_f], w[nz_w]])
+    return sp.csc_matrix((vals, (rows, cols)), shape=(n + 1, n + 1))
+
+
+@dataclass
+class _Newton:
+    """Outcome of :func:`_newton`."""
+
+    converged: bool
+    u: np.ndarray
+    lam: float
+    f: np.ndarray
+    state: np.ndarray
+    trial: tuple
+    iterations: int
+    residual: np.ndarray
+    floor: float
+    singular: str = ""
+    loose: bool = False
+
+
+def _newton(model, settings, u0, lam0, dead_target=None, dc=None, floor0=None, max_iterations=None):
+    """Newton iterations with a damped tangent (Levenberg-Marquardt on the tangent floor).
+
+    Load control (``dead_target`` given, lambda fixed) or displacement control (``dc``: the
+    increment of ``c = w . u`` from ``u0``; lambda is an unknown, bordered system).
+
+    Yielded and open components of the tangent keep a fraction ``floor`` of their elastic
+    stiffness. An iterate that raises the residual is rejected and the floor grows tenfold
+    (a stiffer, shorter step); an accepted one lowers it tenfold down to
+    ``settings.tangent_floor``, so the iteration ends with the consistent tangent. The floor
+    changes only the iteration matrix: the residual uses the exact interface law.
+    """
+    floor_min = settings.tangent_floor
+    floor = floor_min if floor0 is None else max(floor0, floor_min)
+    ref = np.linalg.norm(model.F_dead) + 1e-300
+    fl = np.linalg.norm(model.F_live)
+    u = u0.copy()
+    lam = lam0
+    c_target = None if dc is None else float(model.w @ u0) + dc
+
+    def residual(u_, lam_, floor_):
+        f_, D_, st_, tr_, Fint = model.evaluate(model.full(u_), floor_)
+        target = dead_target if dead_target is not None else model.F_dead + lam_ * model.F_live
+        R_ = target - Fint
+        _check_finite(model, f_, R_, lam_)
+        return f_, D_, st_, tr_, R_
+
+    f, D, state, trial, R = residual(u, lam, floor)
+    r_norm = np.linalg.norm(R)
+    first = True
+    best = None
+    n_iter = 0
+    if max_iterations is None:
+        max_iterations = settings.max_iterations
+    for n_iter in range(1, max_iterations + 1):
+        tol = settings.tolerance * (ref + abs(lam) * fl)
+        if not first and r_norm <= tol:
+            return _Newton(True, u, lam, f, state, trial, n_iter - 1, R, floor)
+        K = model.stiffness(D)
+        if dc is None:
+            lu = _factor(K)
+            rhs = R
+        else:
+            lu = _factor(_bordered(K, model.F_live, model.w))
+            rhs = np.concatenate([R, [c_target - model.w @ u]])
+        if isinstance(lu, Exception):
+            if floor < 1.0:
+                floor = min(10.0 * floor, 1.0)
+                f, D, state, trial, R = residual(u, lam, floor)
+                continue
+            return _Newton(False, u, lam, f, state, trial, n_iter, R, floor, str(lu))
+        sol = lu.solve(rhs)
+        if not np.all(np.isfinite(sol)):
+            floor = min(10.0 * floor, 1.0)
+            f, D, state, trial, R = residual(u, lam, floor)
+            continue
+        # backtracking along the Newton direction (the constraint row is linear, so a partial
+        # step keeps a proportional constraint residual)
+        for step_len in (1.0, 0.5, 0.25, 0.125):
+            u_new = u + step_len * sol[: model.n_free]
+            lam_new = lam if dc is None else lam + step_len * sol[-1]
+            f1, D1, st1, tr1, R1 = residual(u_new, lam_new, floor)
+            r1 = np.linalg.norm(R1)
+            if first or r1 <= r_norm:
+                break
+        if first or r1 <= r_norm or floor >= 1.0:
+            u, lam, f, D, state, trial, R, r_norm = u_new, lam_new, f1, D1, st1, tr1, R1, r1
+            first = False
+            if dc is None or abs(c_target - model.w @ u) <= 1e-9 * abs(dc):
+                if best is None or r_norm < best[0]:
+                    best = (r_norm, u, lam, f, state, trial, R)
+            if floor > floor_min:
+                floor = max(0.1 * floor, floor_min)
+                f, D, state, trial, R = residual(u, lam, floor)
+        else:
+            floor = min(10.0 * floor, 1.0)
+            f, D, state, trial, R = residual(u, lam, floor)
+    tol = settings.tolerance * (ref + abs(lam) * fl)
+    if not first and r_norm <= tol:
+        return _Newton(True, u, lam, f, state, trial, n_iter, R, floor)
+    # stalled near a kink of the law (typically the apex of a joint's cone at N -> 0): accept
+    # the best iterate if its residual is below the looser tolerance
+    if best is not None and best[0] <= settings.accept_tolerance * (ref + abs(best[2]) * fl):
+        r_b, u_b, lam_b, f_b, st_b, tr_b, R_b = best
+        return _Newton(True, u_b, lam_b, f_b, st_b, tr_b, n_iter, R_b, floor, loose=True)
+    return _Newton(False, u, lam, f, state, trial, n_iter, R, floor)
+
+
+def _newton_dead(model: _Model, settings: StaticSettings):
+    """Equilibrium under the dead load (load control, ``dead_steps`` increments)."""
+    u = np.zeros(model.n_free)
+    n_iter = 0
+    f = None
+    for step in range(1, settings.dead_steps + 1):
+        target = model.F_dead * step / settings.dead_steps
+        # the dead load starts from unloaded joints with no friction capacity: allow more
+        # iterations than a live step
+        out = _newton(
+            model, settings, u, 0.0, dead_target=target, max_iterations=4 * settings.max_iterations
+        )
+        n_iter += out.iterations
+        if not out.converged:
+            R = out.residual
+            blk, dof = model.block_of_dof(int(np.argmax(np.abs(R))))
+            changing = np.flatnonzero(out.state != STATE_ELASTIC)
+            why = f" ({out.singular})" if out.singular else ""
+            raise StaticSolverError(
+                f"no equilibrium under the dead load after {out.iterations} iterations{why} "
+                f"(residual {np.linalg.norm(R):.3e}, largest at block {blk} {dof}): the "
+                "assembly may be a mechanism under its own weight",
+                blocks=[blk],
+                interfaces=changing[:10],
+                lam=0.0,
+            )
+        u, f = out.u, out.f
+        model.commit(out.trial, out.state)
+    return u, f, n_iter
+
+
+def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> StaticResult:
+    r"""Dead load, then the live load to collapse (seed 001, Sec. 2.3).
+
+    Parameters
+    ----------
+    scene : Scene
+        Blocks, supports, dead load (self weight + ``dead_wrench``) and the live pattern
+        ``live_wrench`` scaled by lambda.
+    settings : StaticSettings, optional
+
+    Returns
+    -------
+    StaticResult
+
+    Raises
+    ------
+    ValueError
+        Bad inputs (no interfaces, no free dof, no friction coefficient, zero live load).
+    StaticSolverError
+        Unsupported blocks (singular stiffness before any load), no equilibrium under the dead
+        load, no convergence before a collapse plateau, NaN; the message names the blocks or
+        interfaces involved.
+
+    Notes
+    -----
+    Each live step solves, for the increment of the control displacement ``\Delta c``,
+
+    .. math::
+
+        \begin{bmatrix} K_t & -F_L \\ w^T & 0 \end{bmatrix}
+        \begin{bmatrix} \delta U \\ \delta\lambda \end{bmatrix} =
+        \begin{bmatrix} F_D + \lambda F_L - H^T f(U) \\ c_0 + \Delta c - w^T U \end{bmatrix},
+
+    with the consistent tangent ``K_t = H^T D H`` of the interface laws.
+    """
+    start = time.perf_counter()
+    settings = StaticSettings() if settings is None else settings
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a dem.scene.Scene, got {type(scene).__name__}")
+    model = _Model(scene, settings)
+    u, f_dead, n_iter = _newton_dead(model, settings)
+    logger.debug("dead load: %d iterations", n_iter)
+
+    lam = 0.0
+    lams = [0.0]
+    ctrl = [float(model.w @ u)]
+    us = [u.copy()]
+    # first increment: the elastic control displacement of d lambda = load_step * lambda_scale
+    _, D, _, _, _ = model.evaluate(model.full(u), 1.0)  # elastic stiffness
+    lu = _factor(model.stiffness(D))
+    if isinstance(lu, Exception):
+        raise StaticSolverError(f"singular stiffness after the dead load: {lu}", lam=0.0)
+    dlam0 = settings.load_step * model.lambda_scale
+    dc0 = float(model.w @ lu.solve(model.F_live)) * dlam0
+    if not (math.isfinite(dc0) and dc0 > 0):
+        raise StaticSolverError(
+            "the live load does no work on the elastic response (control increment "
+            f"{dc0:.3e} m): the live pattern is carried without displacement",
+            lam=0.0,
+        )
+    dc = dc0
+    dc_max = settings.max_step_factor * dc0
+    peak = dict(lam=0.0, u=u.copy(), f=f_dead.copy(), state=model.state.copy())
+    slope0 = None
+    n_plateau = 0
+    termination = "max_steps"
+    last_du = np.zeros_like(u)
+    n_steps = 0
+    floor = None
+    n_loose = 0
+    while n_steps < settings.max_steps:
+        out = _newton(model, settings, u, lam, dc=dc, floor0=floor)
+        if not out.converged:
+            dc *= 0.5
+            if dc < settings.min_step_ratio * dc0:
+                if slope0 is not None and n_plateau > 0:
+                    termination = "plateau"
+                    logger.warning(
+                        "step cut below the minimum on the plateau at lambda = %.6g: "
+                        "taken as collapse",
+                        lam,
+                    )
+                    break
+                blk, dof = model.block_of_dof(int(np.argmax(np.abs(out.residual))))
+                changing = np.flatnonzero(out.state != model.state)
+                raise StaticSolverError(
+                    f"no convergence at lambda = {lam:.6g} after cutting the step to "
+                    f"{dc:.3e} m (largest residual at block {blk} {dof}; {len(changing)} "
+                    f"interfaces changing state, e.g. {changing[:5].tolist()})",
+                    blocks=[blk],
+                    interfaces=changing[:10],
+                    lam=lam,
+                )
+            continue
+        u_new, lam_new, f, state, its = out.u, out.lam, out.f, out.state, out.iterations
+        floor = out.floor
+        n_loose += int(out.loose)
+        model.commit(out.trial, state)
+        n_iter += its
+        n_steps += 1
+        last_du = u_new - u
+        dlam = lam_new - lam
+        u, lam = u_new, lam_new
+        lams.append(lam)
+        ctrl.append(float(model.w @ u))
+        us.append(u.copy())
+        if lam > peak["lam"]:
+            peak = dict(lam=lam, u=u.copy(), f=f.copy(), state=state.copy())
+        slope = dlam / dc
+        if slope0 is None:
+            slope0 = max(lam / (ctrl[-1] - ctrl[0]), 1e-300)
+        if slope < settings.plateau_slope * slope0:
+            n_plateau += 1
+        else:
+            n_plateau = 0
+        if n_plateau >= settings.plateau_steps and peak["lam"] > 0:
+            termination = "plateau"
+            break
+        if lam < (1.0 - settings.softening_drop) * peak["lam"]:
+            termination = "softening"
+            break
+        growth = math.sqrt(settings.target_iterations / max(its, 1))
+        dc = min(dc * min(max(growth, 0.5), 2.0), dc_max)
+    else:
+        logger.warning("max_steps = %d reached before a collapse plateau", settings.max_steps)
+
+    # the monitored dof
+    mech = model.full(last_du)
+    scale = np.abs(mech[:, :3]).max()
+    mech = mech / scale if scale > 0 else mech
+    if settings.monitor is not None:
+        mon = (int(settings.monitor[0]), int(settings.monitor[1]))
+        if not (0 <= mon[0] < model.n_blocks and 0 <= mon[1] < 6):
+            raise ValueError(f"monitor {settings.monitor} is not a (block, dof) of the scene")
+    else:
+        live_dir = scene.loads.live_wrench[:, :3].sum(axis=0)
+        dof = int(np.argmax(np.abs(live_dir)))
+        mon = (int(np.argmax(np.abs(mech[:, dof]))), dof)
+    idx = model.dof_index[mon]
+    history = np.array(us)
+    monitor_path = history[:, idx] if idx >= 0 else np.zeros(len(us))
+    f_end, _, state_end, _, _ = model.evaluate(model.full(u))
+    wall = time.perf_counter() - start
+    logger.info(
+        "collapse: lambda_max = %.6g after %d steps, %d iterations, %.2f s (%s)",
+        peak["lam"],
+        n_steps,
+        n_iter,
+        wall,
+        termination,
+    )
+    return StaticResult(
+        lambda_max=float(peak["lam"]),
+        pushover_lambda=np.array(lams),
+        pushover_control=np.array(ctrl),
+        pushover_monitor=np.asarray(monitor_path, dtype=float),
+        monitor=mon,
+        interface_state=model.state.copy(),
+        interface_state_at_peak=peak["state"],
+        interface_forces=peak["f"],
+        interface_forces_end=f_end,
+        mechanism=mech,
+        displacements=model.full(u),
+        displacements_at_peak=model.full(peak["u"]),
+        block_a=model.a.copy(),
+        block_b=model.b.copy(),
+        n_steps=n_steps,
+        n_iterations=n_iter,
+        n_loose_steps=n_loose,
+        termination=termination,
+        wall_s=wall,
+        settings=asdict(settings),
+    )
