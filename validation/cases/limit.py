@@ -428,8 +428,9 @@ def run_orduna(quick: bool = True):
                     )
                     rows += r
                     summaries.append((n, variant, fc, model, summ, lim))
-                    if variant == "translations" and fc is None and "bounds" in summ:
-                        _save_mechanism(f"orduna-{n}x13_{model}", scene, summ["bounds"].associated)
+                    if fc is None and "bounds" in summ:
+                        key = f"orduna-{n}x13-{variant}_{model}"
+                        _save_mechanism(key, scene, summ["bounds"].associated)
     # inscribed friction polygons against the exact cones (what linearisation changes)
     for n, variant in ((3, "translations"), (6, "out-of-plane")):
         spec = SPECIMENS[f"orduna-{n}x13"]
