@@ -124,8 +124,9 @@ def _coulomb_excess(fixed: StaticProblem, result: LimitResult, cap_n: np.ndarray
         alpha = fixed.settings.torsion_alpha
         with np.errstate(divide="ignore", invalid="ignore"):
             lhs = (m3 / (fixed.c_t * cap)) ** alpha + (v / cap) ** 2
-        lhs = np.where(cap > 0, lhs, np.where((v > 0) | (m3 > 0), np.inf, 0.0))
-        out = np.maximum(out, cap * (np.sqrt(lhs) - 1.0))
+        # where cap = 0 the shear and torsion terms above already measure the excess
+        safe = np.where(cap > 0, lhs, 1.0)
+        out = np.maximum(out, np.where(cap > 0, cap * (np.sqrt(safe) - 1.0), 0.0))
     return float(np.max(out, initial=0.0))
 
 
