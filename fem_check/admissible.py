@@ -155,5 +155,6 @@ def nodal_forces(load: BlockLoad, spacing: float) -> BlockLoad:
         load.density,
         load.gravity,
         load.acceleration,
+        load.angular_velocity,
         load.label,
     )

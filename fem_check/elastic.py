@@ -349,13 +349,21 @@ class ShapeOperator:
         w = np.concatenate(wts)
         return self._scatter(pts, patch.at(pts) * w[:, None], np.concatenate(fac))
 
-    def body_load_vector(self, density: float, accel_like: np.ndarray) -> np.ndarray:
-        """Load of ``rho (b + w x (x - c))`` with ``accel_like = (b, w)`` (6,), exactly.
+    def body_load_vector(self, density: float, uniform: np.ndarray, grad: np.ndarray) -> np.ndarray:
+        """Load of the body force ``rho (uniform + grad (x - c))`` [N/m^3], exactly.
 
-        Uniform and rotational fields lie in the finite element space (they are the rigid
-        modes), so ``int v . b dV = M R (b, w)``.
+        The field is affine, hence in the finite element space: its dof values ``v`` give
+        ``int phi . b dV = M v``.
         """
-        return density * (self.mass @ (self.modes @ accel_like))
+        r = self.basis.doflocs.T - self.reference.centroid
+        comp = np.arange(self.n_dofs) % 3
+        values = np.asarray(uniform)[comp] + np.einsum("qj,qj->q", grad[comp], r)
+        return density * (self.mass @ values)
+
+
+@skfem.BilinearForm
+def _vector_mass(u, v, w):
+    return dot(u, v)
 
 
 def _cross_any(a, b):
@@ -364,11 +372,6 @@ def _cross_any(a, b):
     if a.shape[-1] == 2:
         return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
     return np.cross(a, b)
-
-
-@skfem.BilinearForm
-def _vector_mass(u, v, w):
-    return dot(u, v)
 
 
 @dataclass(frozen=True, eq=False)
@@ -426,6 +429,7 @@ def to_reference(block_mesh: BlockMesh, load: BlockLoad) -> BlockLoad:
         load.density,
         load.gravity @ rot,
         np.concatenate([load.acceleration[:3] @ rot, load.acceleration[3:] @ rot]),
+        load.angular_velocity @ rot,
         load.label,
     )
 
@@ -438,7 +442,7 @@ def load_vector(op: ShapeOperator, ref_load: BlockLoad) -> tuple[np.ndarray, flo
     if ref_load.density > 0:
         acc = ref_load.acceleration
         f += op.body_load_vector(
-            ref_load.density, np.concatenate([ref_load.gravity - acc[:3], -acc[3:]])
+            ref_load.density, ref_load.gravity - acc[:3], -ref_load.acceleration_gradient
         )
     return f, shift
 

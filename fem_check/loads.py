@@ -229,7 +229,11 @@ class BlockLoad:
         [m/s^2].
     acceleration : (6,) float
         Rigid-body acceleration of the block in the DEM state: centroid acceleration [m/s^2]
-        and angular acceleration [rad/s^2]; its d'Alembert load is ``-rho (a + alpha x r)``.
+        and angular acceleration [rad/s^2].
+    angular_velocity : (3,) float
+        [rad/s]. With it the d'Alembert body force is the full rigid-body one,
+        ``-rho (a + alpha x r + omega x (omega x r))``, ``r = x - centroid``, whose moment
+        ``-(I alpha + omega x I omega)`` balances Euler's equations.
     label : str
         What the loads are (for reports).
     """
@@ -240,6 +244,7 @@ class BlockLoad:
     density: float = 0.0
     gravity: np.ndarray = field(default_factory=lambda: np.zeros(3))
     acceleration: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    angular_velocity: np.ndarray = field(default_factory=lambda: np.zeros(3))
     label: str = ""
 
     def __post_init__(self):
@@ -254,7 +259,7 @@ class BlockLoad:
         object.__setattr__(self, "patches", tuple(self.patches))
         if not np.isfinite(self.density) or self.density < 0:
             raise ValueError(f"density must be finite and >= 0 [kg/m^3], got {self.density}")
-        for name, shape in (("gravity", (3,)), ("acceleration", (6,))):
+        for name, shape in (("gravity", (3,)), ("acceleration", (6,)), ("angular_velocity", (3,))):
             arr = np.asarray(getattr(self, name), dtype=float)
             if arr.shape != shape or not np.all(np.isfinite(arr)):
                 raise ValueError(f"{name} must be a finite array of shape {shape}, got {arr}")
@@ -269,8 +274,19 @@ class BlockLoad:
             self.density,
             self.gravity,
             self.acceleration,
+            self.angular_velocity,
             label or self.label,
         )
+
+    @property
+    def acceleration_gradient(self) -> np.ndarray:
+        """(3, 3) ``G`` with rigid-body acceleration ``a(x) = a_c + G (x - centroid)`` [1/s^2].
+
+        ``G = [alpha]_x + omega omega^T - |omega|^2 I``: angular plus centripetal acceleration.
+        """
+        al, w = self.acceleration[3:], self.angular_velocity
+        skew = np.array([[0, -al[2], al[1]], [al[2], 0, -al[0]], [-al[1], al[0], 0]])
+        return skew + np.outer(w, w) - np.dot(w, w) * np.eye(3)
 
     def body_resultant(self, block: ConvexBlock, about: np.ndarray) -> tuple[np.ndarray, ...]:
         """Force [N] and moment about ``about`` [N m] of gravity plus d'Alembert load."""
@@ -293,8 +309,11 @@ class BlockLoad:
         for p in self.patches:
             pts, wts = polygon_quadrature(p.polygon, 2)
             s += (np.linalg.norm(p.at(pts), axis=1) * wts).sum()
-        body = np.linalg.norm(self.gravity - self.acceleration[:3]) * self.density * block.volume
-        return float(s + body)
+        # |g - a(x)| <= |g - a_c| + |G| |x - c|, with |x - c| up to half the block size
+        accel = np.linalg.norm(self.gravity - self.acceleration[:3]) + 0.5 * block.size * float(
+            np.linalg.norm(self.acceleration_gradient, 2)
+        )
+        return float(s + accel * self.density * block.volume)
 
 
 def body_resultant_on(
@@ -314,16 +333,26 @@ def body_resultant_on(
 
     Notes
     -----
-    With ``b(x) = rho (g - a - alpha x (x - c))`` and ``x = c' + y`` about the part's centroid
-    ``c'``: force ``rho V' (g - a - alpha x (c' - c))``, moment
-    ``(c' - o) x F - rho J' alpha`` with ``J'`` the part's inertia per unit density.
+    With ``b(x) = rho (g - a_c - G (x - c))`` (``G``: :attr:`BlockLoad.acceleration_gradient`)
+    and ``x = c' + y`` about the part's centroid ``c'``: force ``rho V' b0``,
+    ``b0 = g - a_c - G (c' - c)``, and moment ``(c' - o) x F - rho int y x (G y) dV`` where
+    :math:`\\int y \\times G y\\,dV = \\epsilon_{ijk} G_{kl} C_{jl}` with the second moment
+    ``C = tr(J')/2 I - J'`` from the part's inertia ``J'`` per unit density. For
+    ``G = [alpha]_x`` the last term is ``J' alpha``.
     """
     rho = load.density
-    alpha = load.acceleration[3:]
-    b0 = load.gravity - load.acceleration[:3] - np.cross(alpha, part.centroid - centre)
+    grad = load.acceleration_gradient
+    b0 = load.gravity - load.acceleration[:3] - grad @ (part.centroid - centre)
     force = rho * part.volume * b0
-    moment = np.cross(part.centroid - about, force) - rho * part.inertia @ alpha
+    second = 0.5 * np.trace(part.inertia) * np.eye(3) - part.inertia
+    swirl = np.einsum("ijk,kl,jl->i", _LEVI_CIVITA, grad, second)
+    moment = np.cross(part.centroid - about, force) - rho * swirl
     return force, moment
+
+
+_LEVI_CIVITA = np.zeros((3, 3, 3))
+for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+    _LEVI_CIVITA[_i, _j, _k], _LEVI_CIVITA[_i, _k, _j] = 1.0, -1.0
 
 
 @dataclass(frozen=True)
@@ -350,17 +379,24 @@ class EquilibriumReport:
     @property
     def rel_force(self) -> float:
         """|F| / scale."""
-        return float(np.linalg.norm(self.force) / max(self.scale, 1e-300))
+        return _ratio(float(np.linalg.norm(self.force)), self.scale)
 
     @property
     def rel_moment(self) -> float:
         """|M| / (scale size)."""
-        return float(np.linalg.norm(self.moment) / max(self.scale * self.size, 1e-300))
+        return _ratio(float(np.linalg.norm(self.moment)), self.scale * self.size)
 
     @property
     def rel(self) -> float:
         """The larger of the two relative imbalances."""
         return max(self.rel_force, self.rel_moment)
+
+
+def _ratio(value: float, scale: float) -> float:
+    """value / scale, with 0 / 0 = 0 (no load at all is balanced)."""
+    if scale > 0:
+        return value / scale
+    return 0.0 if value == 0 else float("inf")
 
 
 def check_equilibrium(
@@ -467,6 +503,12 @@ class BlockPointLoads:
         Centroid and angular acceleration of each block [m/s^2, rad/s^2].
     density : (n_blocks,) float
         [kg/m^3].
+    angular_velocity : (n_blocks, 3) float or None
+        [rad/s]; None means zero (then a spinning block's ``omega x I omega`` shows up as a
+        moment imbalance).
+
+    All vectors must be in one frame, the frame of the block vertices the loads are applied
+    to (world frame with current vertices, or each block's reference frame throughout).
     """
 
     block: np.ndarray
@@ -475,6 +517,7 @@ class BlockPointLoads:
     gravity: np.ndarray
     acceleration: np.ndarray
     density: np.ndarray
+    angular_velocity: np.ndarray | None = None
 
     def __post_init__(self):
         blk = np.asarray(self.block, dtype=np.int64).reshape(-1)
@@ -486,6 +529,10 @@ class BlockPointLoads:
             "gravity": (self.gravity, (3,)),
             "acceleration": (self.acceleration, (n, 6)),
             "density": (self.density, (n,)),
+            "angular_velocity": (
+                np.zeros((n, 3)) if self.angular_velocity is None else self.angular_velocity,
+                (n, 3),
+            ),
         }
         for name, (arr, shape) in checks.items():
             a = np.asarray(arr, dtype=float)
@@ -510,12 +557,16 @@ class BlockPointLoads:
             float(self.density[i]),
             self.gravity,
             self.acceleration[i],
+            self.angular_velocity[i],
             "DEM node forces",
         )
 
 
 def read_point_state(path: str | Path) -> tuple[BlockPointLoads, list[np.ndarray]]:
     """Read a TIS DEM state (``validation/results/tis-peak-state.npz`` layout).
+
+    Arrays ``block``, ``point``, ``force``, ``gravity``, ``acceleration``, ``density``,
+    ``block_vertices``, ``vert_ptr`` and, if present, ``angular_velocity`` (n_blocks, 3).
 
     Returns
     -------
@@ -526,9 +577,10 @@ def read_point_state(path: str | Path) -> tuple[BlockPointLoads, list[np.ndarray
     with np.load(path) as data:
         ptr = np.asarray(data["vert_ptr"], dtype=np.int64)
         verts = np.asarray(data["block_vertices"], dtype=float).reshape(-1, 3)
+        omega = data["angular_velocity"] if "angular_velocity" in data else None
         loads = BlockPointLoads(
             data["block"], data["point"], data["force"], data["gravity"],
-            data["acceleration"], data["density"],
+            data["acceleration"], data["density"], omega,
         )  # fmt: skip
     return loads, [verts[ptr[i] : ptr[i + 1]] for i in range(len(ptr) - 1)]
 
