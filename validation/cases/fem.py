@@ -482,15 +482,6 @@ def run_tis_stress(quick: bool):
     t_recover = time.perf_counter() - t0
     field = stress_field(sols, nodal=nodal)
     vtu = write_vtu(RESULTS_DIR / "fem-tis-stress.vtu", field)
-    np.savez_compressed(
-        RESULTS_DIR / "fem-tis-stress.npz",
-        points=field.points,
-        tets=field.tets,
-        block=field.block,
-        max_principal=field.principal[:, 0],
-        von_mises=field.von_mises,
-        source=source,
-    )
 
     free = [r["block"] for r in records if not r["supported"]]
     res = np.array([s.equilibrium.rel for s in sols])
