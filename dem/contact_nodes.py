@@ -8,9 +8,10 @@ A face of a block gets nodes when it can touch something:
   ``margin``); those nodes act against the indenter only.
 
 Each face is covered by a square grid of spacing ``h`` aligned with its longest edge; every grid
-cell is clipped exactly to the face polygon, the node sits at the centroid of the clipped cell
-and carries its area, so the tributary areas of a face sum to the face area exactly and a
-uniform penetration ``d`` gives the force ``k_n d A_face`` at any ``h``.
+cell is clipped exactly to the face polygon, and its area goes either to a node at its centroid
+or in equal shares to nodes at its corners (see :func:`seed_face`), so the tributary areas of a
+face sum to the face area exactly and a uniform penetration ``d`` gives the force
+``k_n d A_face`` at any ``h``.
 
 **Counting each interface once.** For a pair of blocks ``(a, b)`` that share touching faces
 (an interface), nodes are seeded on one side only: the narrower of the two faces (ties: the
@@ -87,7 +88,9 @@ def _face_frame(polygon: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np
     return u, np.cross(normal, u)
 
 
-def seed_face(polygon: np.ndarray, normal: np.ndarray, spacing: float) -> tuple[np.ndarray, ...]:
+def seed_face(
+    polygon: np.ndarray, normal: np.ndarray, spacing: float, layout: str = "centroid"
+) -> tuple[np.ndarray, ...]:
     """Nodes and tributary areas on one convex planar face.
 
     Parameters
@@ -98,11 +101,17 @@ def seed_face(polygon: np.ndarray, normal: np.ndarray, spacing: float) -> tuple[
         Outward unit normal.
     spacing : float
         Grid spacing ``h`` [m].
+    layout : {"centroid", "vertex"}
+        ``"centroid"`` (default): one node at the centroid of each grid cell clipped to the
+        face, with the clipped cell's area (midpoint rule). ``"vertex"``: nodes at the corners
+        of the clipped cells, each corner taking an equal share of every cell it belongs to
+        (trapezoidal rule on full cells: ``h^2`` inside, ``h^2 / 2`` on edges, ``h^2 / 4`` at
+        corners); nodes then lie on the face's edges.
 
     Returns
     -------
     points : (m, 3) float
-        Centroids of the grid cells clipped to the face [m].
+        Node positions [m].
     areas : (m,) float
         Their areas [m^2]; they sum to the face area.
     """
@@ -134,19 +143,38 @@ def seed_face(polygon: np.ndarray, normal: np.ndarray, spacing: float) -> tuple[
     side = edge[None, None, :, 0] * rel[..., 1] - edge[None, None, :, 1] * rel[..., 0]
     scale = spacing * np.linalg.norm(edge, axis=1)
     inside_all = np.all(side >= -1e-12 * scale, axis=(1, 2))
-    pts2 = [np.column_stack([c0[inside_all] + 0.5 * spacing, c1[inside_all] + 0.5 * spacing])]
-    areas = [np.full(int(inside_all.sum()), spacing * spacing)]
+    cells: list[np.ndarray] = [corners[k] for k in np.flatnonzero(inside_all)]
+    if layout == "centroid":
+        pts2 = [np.column_stack([c0[inside_all] + 0.5 * spacing, c1[inside_all] + 0.5 * spacing])]
+        areas = [np.full(int(inside_all.sum()), spacing * spacing)]
     for k in np.flatnonzero(~inside_all):
         piece = clip_convex_polygons(corners[k], poly2)
         if len(piece) < 3:
             continue
         area, centroid, _ = polygon_properties(piece)
         if area > 1e-12 * spacing * spacing:
-            pts2.append(centroid[None, :])
-            areas.append(np.array([area]))
-    p2 = np.concatenate(pts2)
+            if layout == "centroid":
+                pts2.append(centroid[None, :])
+                areas.append(np.array([area]))
+            else:
+                cells.append(piece)
+    if layout == "centroid":
+        p2 = np.concatenate(pts2)
+        points = origin + p2[:, :1] * u + p2[:, 1:] * v
+        return points, np.concatenate(areas)
+    if layout != "vertex":
+        raise ValueError(f"layout must be 'vertex' or 'centroid', got {layout!r}")
+    corner_pts = np.concatenate(cells)
+    shares = np.concatenate([np.full(len(c), polygon_properties(c)[0] / len(c)) for c in cells])
+    # merge coincident corners of neighbouring cells
+    key = np.round((corner_pts - start) / (1e-7 * spacing)).astype(np.int64)
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    area = np.zeros(len(first))
+    np.add.at(area, inverse, shares)
+    p2 = corner_pts[first]
     points = origin + p2[:, :1] * u + p2[:, 1:] * v
-    return points, np.concatenate(areas)
+    return points, area
 
 
 def _touching_face_pairs(assembly: Assembly, margin: float) -> list[tuple[int, int, int, int]]:
@@ -215,6 +243,7 @@ def seed_contact_nodes(
     indenter_axis_xy: np.ndarray | None = None,
     indenter_radius: float = 0.0,
     indenter_spacing: float | None = None,
+    layout: str = "centroid",
 ) -> ContactNodes:
     """Seed nodes on every face that can touch a neighbour or the indenter.
 
@@ -233,6 +262,8 @@ def seed_contact_nodes(
         Tip radius [m].
     indenter_spacing : float, optional
         Node spacing on the faces under the indenter [m] (default ``spacing``).
+    layout : {"centroid", "vertex"}
+        Node layout on each face, see :func:`seed_face`.
 
     Returns
     -------
@@ -272,7 +303,7 @@ def seed_contact_nodes(
     blocks_l, points_l, normals_l, areas_l, faces_l = [], [], [], [], []
     for owner, face in sorted(seeded):
         blk = assembly.blocks[owner]
-        pts, areas = seed_face(blk.vertices[blk.faces[face]], blk.normals[face], spacing)
+        pts, areas = seed_face(blk.vertices[blk.faces[face]], blk.normals[face], spacing, layout)
         blocks_l.append(np.full(len(areas), owner, dtype=np.int64))
         points_l.append(pts)
         normals_l.append(np.repeat(blk.normals[face][None, :], len(areas), axis=0))
@@ -292,7 +323,7 @@ def seed_contact_nodes(
                 poly = blk.vertices[blk.faces[f]]
                 if _polygon_xy_distance(poly[:, :2], axis) > reach:
                     continue
-                pts, areas = seed_face(poly, normal, h_ind)
+                pts, areas = seed_face(poly, normal, h_ind, layout)
                 keep = np.linalg.norm(pts[:, :2] - axis, axis=1) <= reach + h_ind
                 ind_b.append(np.full(int(keep.sum()), i, dtype=np.int64))
                 ind_p.append(pts[keep])

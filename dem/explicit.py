@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 import scipy.linalg
 
-from dem.contact_nodes import ContactNodes, build_level_sets, seed_contact_nodes
+from dem.contact_nodes import FACE_ANGLE_DEG, ContactNodes, build_level_sets, seed_contact_nodes
 from dem.kernels.broadphase import build_pairs, carry_history
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
@@ -62,6 +62,13 @@ from dem.units import MM
 
 logger = logging.getLogger(__name__)
 
+INDENTER_NODES_PER_RADIUS_INV = 0.1
+"""Default indenter node spacing as a fraction of the tip radius."""
+EDGE_TOL = 1e-6
+"""Lateral tolerance of the compatible-plane contact, relative to the node spacing: nodes on an
+edge shared with the neighbour's face count as inside."""
+STOP_PERSIST = 0.2 * MM
+"""Travel over which a drop below ``stop_below_peak_fraction`` must persist to stop [m]."""
 PARALLEL_MIN_ENTRIES = 20000
 """Contact entries from which ``parallel=None`` evaluates them with ``prange``."""
 
@@ -84,7 +91,8 @@ class ExplicitSettings:
     node_spacing : float
         Grid spacing of surface nodes [m]; default 0.5 mm (seed 000 used 0.06 mm).
     indenter_node_spacing : float or None
-        Node spacing under the indenter [m]; default ``node_spacing``.
+        Node spacing under the indenter [m]; default the smaller of ``node_spacing`` and a tenth
+        of the tip radius (the contact patch of the sphere is small).
     margin : float
         Neighbour-list and face-seeding margin [m]; default 0.1 mm. The list is rebuilt when a
         block has moved ``margin / 2``.
@@ -92,6 +100,16 @@ class ExplicitSettings:
         Friction coefficient of every block; None takes ``scene.assembly.mu`` (per block).
     mu_rule : {"mean", "min"}
         How two blocks' coefficients combine: the arithmetic mean (default) or the smaller.
+    node_layout : {"centroid", "vertex"}
+        One node at the centroid of each grid cell clipped to the face (midpoint rule;
+        default), or nodes at the cell corners with equal shares of the cells' areas
+        (trapezoidal rule, nodes on the face edges). On the 5 x 5 panel the centroid layout
+        converges monotonically in the peak load, the vertex layout does not.
+    contact_plane : {"nearest", "compatible"}
+        With face planes: penetration and normal from the nearest plane of the neighbour (the
+        exact convex signed distance; default), or from the nearest plane among the
+        neighbour's faces that face the node's own face (keeps a conforming interface
+        conforming next to the neighbour's edges).
     signed_distance : {"planes", "level_set"}
         Exact face planes of the convex blocks (default) or trilinear level-set grids.
     level_set_spacing : float
@@ -126,6 +144,8 @@ class ExplicitSettings:
     margin: float = 0.1 * MM
     mu: float | None = None
     mu_rule: str = "mean"
+    node_layout: str = "centroid"
+    contact_plane: str = "nearest"
     signed_distance: str = "planes"
     level_set_spacing: float = 0.025 * MM
     dt: float | None = None
@@ -162,6 +182,14 @@ class ExplicitSettings:
             raise ValueError(f"mu must be finite and >= 0, got {self.mu}")
         if self.mu_rule not in ("mean", "min"):
             raise ValueError(f"mu_rule must be 'mean' or 'min', got {self.mu_rule!r}")
+        if self.node_layout not in ("vertex", "centroid"):
+            raise ValueError(
+                f"node_layout must be 'vertex' or 'centroid', got {self.node_layout!r}"
+            )
+        if self.contact_plane not in ("compatible", "nearest"):
+            raise ValueError(
+                f"contact_plane must be 'compatible' or 'nearest', got {self.contact_plane!r}"
+            )
         if self.signed_distance not in ("planes", "level_set"):
             raise ValueError(
                 f"signed_distance must be 'planes' or 'level_set', got {self.signed_distance!r}"
@@ -223,7 +251,7 @@ class IndentationSettings:
     max_deflection : float
         Stop at this travel [m]; default 6 mm.
     record_interval : float
-        Travel between recorded points [m]; default 2 um.
+        Travel between recorded points [m]; default 5 um.
     ultimate_fraction : float
         ``P / P_max`` below which the block is out (see the module docstring); default 0.1.
     out_confirm : float
@@ -243,7 +271,7 @@ class IndentationSettings:
     tip_radius: float = 1.25 * MM
     speed: float = 5.0 * MM
     max_deflection: float = 6.0 * MM
-    record_interval: float = 2e-3 * MM
+    record_interval: float = 5e-3 * MM
     ultimate_fraction: float = 0.1
     out_confirm: float = 0.3 * MM
     snapshot_interval: float = 0.1 * MM
@@ -425,14 +453,26 @@ class ExplicitModel:
             if not 0 <= indenter_block < n or self.fixed[indenter_block]:
                 raise ValueError(f"indenter block {indenter_block} must be a free block")
             axis_xy = self._top_centre(indenter_block)[:2]
+        ind_spacing = settings.indenter_node_spacing
+        if ind_spacing is None:
+            ind_spacing = min(
+                settings.node_spacing, INDENTER_NODES_PER_RADIUS_INV * indenter_radius
+            )
         self.nodes: ContactNodes = seed_contact_nodes(
             asm, self.fixed, settings.node_spacing, settings.margin, axis_xy,
-            indenter_radius, settings.indenter_node_spacing,
+            indenter_radius, ind_spacing, settings.node_layout,
         )  # fmt: skip
         nodes = self.nodes
         self.node_block = nodes.block
         self.node_r0 = np.ascontiguousarray(nodes.point - self.ref_centroid[nodes.block])
         self.node_area = nodes.area
+        self.node_n0 = np.ascontiguousarray(nodes.normal)
+        self.edge_tol = EDGE_TOL * settings.node_spacing
+        self.compat_cos = (
+            math.cos(math.radians(FACE_ANGLE_DEG))
+            if settings.contact_plane == "compatible"
+            else 2.0
+        )
         self.weight = np.ascontiguousarray(nodes.weight)
         self.ind_block = nodes.indenter_block
         self.ind_r0 = np.ascontiguousarray(
@@ -605,10 +645,11 @@ class ExplicitModel:
         quat_to_rot(self.quat, self.rot)
         node_contacts(
             self.pair_node, self.pair_block, self.pair_weight, shear, self.node_block,
-            self.node_r0, self.node_area, self.pos, self.rot, self.vel, self.omega,
-            self.ref_centroid, self.face_ptr, self.face_normal, self.face_offset,
+            self.node_r0, self.node_n0, self.node_area, self.pos, self.rot, self.vel,
+            self.omega, self.ref_centroid, self.face_ptr, self.face_normal, self.face_offset,
             self.settings.signed_distance == "level_set", *self.ls, self.block_mu,
-            self.mu_rule, self.settings.k_n, self.settings.k_t, self.beta, dt, out_force,
+            self.mu_rule, self.compat_cos, self.edge_tol, self.settings.k_n, self.settings.k_t,
+            self.beta, dt, out_force,
             out_point, out_depth,
         )  # fmt: skip
 
@@ -699,10 +740,11 @@ class ExplicitModel:
                 self.restrained, self.pos, self.quat, self.vel, self.omega, self.rot,
                 self.force, self.torque, self.ref_centroid, self.face_ptr, self.face_normal,
                 self.face_offset, self.radius, self.settings.signed_distance == "level_set",
-                *self.ls, self.node_block, self.node_r0, self.node_area, self.pair_node,
-                self.pair_block, self.pair_weight, self.pair_shear, self.out_force,
-                self.out_point, self.out_depth, self.block_mu, self.mu_rule,
-                self.settings.k_n, self.settings.k_t, self.beta, self.parallel, active,
+                *self.ls, self.node_block, self.node_r0, self.node_n0, self.node_area,
+                self.pair_node, self.pair_block, self.pair_weight, self.pair_shear,
+                self.out_force, self.out_point, self.out_depth, self.block_mu, self.mu_rule,
+                self.compat_cos, self.edge_tol, self.settings.k_n, self.settings.k_t, self.beta,
+                self.parallel, active,
                 self.ind_block, self.ind_r0, self.ind_area, centre0,
                 float(ind.get("t0", 0.0)), float(ind.get("radius", 0.0)), velocity,
                 self.settings.k_n, ind_force, self.pos_build, self.quat_build,
@@ -989,11 +1031,15 @@ def simulate_indentation(
                 if st.below_since(indentation) else None  # fmt: skip
             if summary is not None and math.isfinite(summary["ultimate_deflection"]):
                 st.finished = True
-        if (
-            indentation.stop_below_peak_fraction is not None
-            and p_mean < indentation.stop_below_peak_fraction * st.best_load
-        ):
-            st.finished = True
+        if indentation.stop_below_peak_fraction is not None:
+            # the drop must persist over STOP_PERSIST of travel (not an impact transient)
+            if p_mean < indentation.stop_below_peak_fraction * st.best_load:
+                if st.below_from is None:
+                    st.below_from = delta
+                elif delta - st.below_from >= STOP_PERSIST:
+                    st.finished = True
+            else:
+                st.below_from = None
         now = time.perf_counter()
         if now - last_log >= settings.progress_every_s:
             rate = (st.steps - steps_start) / (now - loop_start)
@@ -1046,6 +1092,7 @@ class _RunState:
     peak: dict = field(default_factory=dict)
     snapshots: list = field(default_factory=list)
     next_snapshot: float = 0.0
+    below_from: float | None = None
 
     def record(self, model: ExplicitModel, delta: float, load: float, dwork: float) -> None:
         self.delta.append(delta)
@@ -1076,6 +1123,7 @@ class _RunState:
             "best_load": self.best_load, "finished": self.finished, "t0": self.t0,
             "t": model.t, "relax": self.relax, "n_rebuilds": model.n_rebuilds,
             "next_snapshot": self.next_snapshot,
+            "below_from": self.below_from,
             "snapshots": [(snap["delta"], snap["kind"]) for snap in self.snapshots],
         }  # fmt: skip
         for k, snap in enumerate(self.snapshots):

@@ -122,6 +122,7 @@ def contact_entries(
     pair_shear,
     node_block,
     node_r0,
+    node_n0,
     node_area,
     pos,
     rot,
@@ -139,6 +140,8 @@ def contact_entries(
     ls_values,
     block_mu,
     mu_rule,
+    compat_cos,
+    edge_tol,
     k_n,
     k_t,
     beta,
@@ -163,6 +166,8 @@ def contact_entries(
         Owner block of each node.
     node_r0 : (n_nodes, 3) float64
         Node offset from its block's centroid in the reference frame [m].
+    node_n0 : (n_nodes, 3) float64
+        Outward normal of the node's face in the reference frame.
     node_area : (n_nodes,) float64
         Tributary area [m^2].
     pos, vel, omega : (n_blocks, 3) float64
@@ -179,6 +184,14 @@ def contact_entries(
         Level-set grids (ignored unless ``use_level_set``).
     block_mu : (n_blocks,) float64
         Friction coefficient of each block; ``mu_rule`` combines a pair (0 mean, 1 min).
+    compat_cos : float
+        Face planes only: a node inside ``b`` takes its penetration and normal from the nearest
+        plane among ``b``'s faces whose normal is within ``acos(compat_cos)`` of the reverse
+        of the node's face normal, provided the node is within ``edge_tol`` of ``b``'s other
+        face planes (falls back to the nearest plane if no face qualifies); a value above 1
+        switches this off (nearest plane always, the exact convex signed distance).
+    edge_tol : float
+        [m], see ``compat_cos``.
     k_n, k_t : float
         Normal and tangential penalty [Pa/m].
     beta : float
@@ -215,6 +228,43 @@ def contact_entries(
             phi, g0, g1, g2 = level_set_sdf_one(
                 X0, X1, X2, ls_origin[b], ls_spacing[b], ls_dims[b], ls_values, ls_ptr[b]
             )
+        elif compat_cos <= 1.0:
+            # normal-compatible face: among b's faces facing the node's own face, the nearest
+            # plane gives penetration and normal; b's other faces only bound the contact
+            # laterally (with tolerance edge_tol, so that nodes on a shared edge count)
+            m0, m1, m2 = node_n0[i, 0], node_n0[i, 1], node_n0[i, 2]
+            w0 = rot[a, 0, 0] * m0 + rot[a, 0, 1] * m1 + rot[a, 0, 2] * m2
+            w1 = rot[a, 1, 0] * m0 + rot[a, 1, 1] * m1 + rot[a, 1, 2] * m2
+            w2 = rot[a, 2, 0] * m0 + rot[a, 2, 1] * m1 + rot[a, 2, 2] * m2
+            q0 = rot[b, 0, 0] * w0 + rot[b, 1, 0] * w1 + rot[b, 2, 0] * w2
+            q1 = rot[b, 0, 1] * w0 + rot[b, 1, 1] * w1 + rot[b, 2, 1] * w2
+            q2 = rot[b, 0, 2] * w0 + rot[b, 1, 2] * w1 + rot[b, 2, 2] * w2
+            best_c = -math.inf
+            best_o = -math.inf
+            f_c = -1
+            f_o = face_ptr[b]
+            for g in range(face_ptr[b], face_ptr[b + 1]):
+                dist = (
+                    face_normal[g, 0] * X0
+                    + face_normal[g, 1] * X1
+                    + face_normal[g, 2] * X2
+                    - face_offset[g]
+                )
+                c = face_normal[g, 0] * q0 + face_normal[g, 1] * q1 + face_normal[g, 2] * q2
+                if c <= -compat_cos:
+                    if dist > best_c:
+                        best_c = dist
+                        f_c = g
+                elif dist > best_o:
+                    best_o = dist
+                    f_o = g
+            if f_c < 0:
+                phi, f = best_o, f_o
+            elif best_c < 0.0 and best_o <= edge_tol:
+                phi, f = best_c, f_c
+            else:
+                phi, f = max(best_c, best_o, 0.0), f_c
+            g0, g1, g2 = face_normal[f, 0], face_normal[f, 1], face_normal[f, 2]
         else:
             phi, f = convex_sdf_one(
                 X0, X1, X2, face_normal, face_offset, face_ptr[b], face_ptr[b + 1]
@@ -261,6 +311,7 @@ def node_contacts(
     pair_shear,
     node_block,
     node_r0,
+    node_n0,
     node_area,
     pos,
     rot,
@@ -278,6 +329,8 @@ def node_contacts(
     ls_values,
     block_mu,
     mu_rule,
+    compat_cos,
+    edge_tol,
     k_n,
     k_t,
     beta,
@@ -289,9 +342,10 @@ def node_contacts(
     """Every entry, serially (arguments as :func:`contact_entries` without the range)."""
     contact_entries(
         0, pair_node.shape[0], pair_node, pair_block, pair_weight, pair_shear, node_block,
-        node_r0, node_area, pos, rot, vel, omega, ref_centroid, face_ptr, face_normal,
-        face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values,
-        block_mu, mu_rule, k_n, k_t, beta, dt, out_force, out_point, out_depth,
+        node_r0, node_n0, node_area, pos, rot, vel, omega, ref_centroid, face_ptr,
+        face_normal, face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr,
+        ls_values, block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta, dt, out_force,
+        out_point, out_depth,
     )  # fmt: skip
 
 
@@ -303,6 +357,7 @@ def node_contacts_parallel(
     pair_shear,
     node_block,
     node_r0,
+    node_n0,
     node_area,
     pos,
     rot,
@@ -320,6 +375,8 @@ def node_contacts_parallel(
     ls_values,
     block_mu,
     mu_rule,
+    compat_cos,
+    edge_tol,
     k_n,
     k_t,
     beta,
@@ -334,9 +391,10 @@ def node_contacts_parallel(
     for c in prange(n_chunks):
         contact_entries(
             c * 512, min(m, (c + 1) * 512), pair_node, pair_block, pair_weight, pair_shear,
-            node_block, node_r0, node_area, pos, rot, vel, omega, ref_centroid, face_ptr,
-            face_normal, face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr,
-            ls_values, block_mu, mu_rule, k_n, k_t, beta, dt, out_force, out_point, out_depth,
+            node_block, node_r0, node_n0, node_area, pos, rot, vel, omega, ref_centroid,
+            face_ptr, face_normal, face_offset, use_level_set, ls_origin, ls_spacing, ls_dims,
+            ls_ptr, ls_values, block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta, dt,
+            out_force, out_point, out_depth,
         )  # fmt: skip
 
 

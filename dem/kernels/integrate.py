@@ -140,8 +140,9 @@ def run_steps(
     ext_torque, restrained, pos, quat, vel, omega, rot, force, torque,
     ref_centroid, face_ptr, face_normal, face_offset, radius,
     use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values,
-    node_block, node_r0, node_area, pair_node, pair_block, pair_weight, pair_shear,
-    out_force, out_point, out_depth, block_mu, mu_rule, k_n, k_t, beta, parallel,
+    node_block, node_r0, node_n0, node_area, pair_node, pair_block, pair_weight, pair_shear,
+    out_force, out_point, out_depth, block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta,
+    parallel,
     ind_active, ind_block, ind_r0, ind_area, ind_centre0, ind_t0, ind_radius, ind_velocity,
     k_ind, ind_force, pos_build, quat_build, margin, acc,
 ):  # fmt: skip
@@ -190,17 +191,19 @@ def run_steps(
         torque[:, :] = 0.0
         if parallel:
             node_contacts_parallel(
-                pair_node, pair_block, pair_weight, pair_shear, node_block, node_r0, node_area,
-                pos, rot, vel, omega, ref_centroid, face_ptr, face_normal, face_offset,
-                use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values, block_mu,
-                mu_rule, k_n, k_t, beta, dt, out_force, out_point, out_depth,
+                pair_node, pair_block, pair_weight, pair_shear, node_block, node_r0, node_n0,
+                node_area, pos, rot, vel, omega, ref_centroid, face_ptr, face_normal,
+                face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values,
+                block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta, dt, out_force, out_point,
+                out_depth,
             )  # fmt: skip
         else:
             node_contacts(
-                pair_node, pair_block, pair_weight, pair_shear, node_block, node_r0, node_area,
-                pos, rot, vel, omega, ref_centroid, face_ptr, face_normal, face_offset,
-                use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values, block_mu,
-                mu_rule, k_n, k_t, beta, dt, out_force, out_point, out_depth,
+                pair_node, pair_block, pair_weight, pair_shear, node_block, node_r0, node_n0,
+                node_area, pos, rot, vel, omega, ref_centroid, face_ptr, face_normal,
+                face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values,
+                block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta, dt, out_force, out_point,
+                out_depth,
             )  # fmt: skip
         accumulate_wrenches(pair_node, pair_block, node_block, pos, out_force, out_point,
                             force, torque)  # fmt: skip

@@ -14,8 +14,9 @@ from dem.scenes.tis_panel import tis_interface_area, tis_panel
 from dem.units import MM
 
 
+@pytest.mark.parametrize("layout", ["centroid", "vertex"])
 @pytest.mark.parametrize("spacing", [0.7, 0.31, 0.05])
-def test_tributary_areas_sum_to_face_area(spacing):
+def test_tributary_areas_sum_to_face_area(spacing, layout):
     """Cells clipped exactly to the face: the areas add up to the polygon area (shoelace)."""
     angle = np.sort(np.random.default_rng(3).uniform(0, 2 * np.pi, 7))
     xy = np.column_stack([2.0 * np.cos(angle), 1.3 * np.sin(angle)])
@@ -26,8 +27,16 @@ def test_tributary_areas_sum_to_face_area(spacing):
     u /= np.linalg.norm(u)
     v = np.cross(n, u)
     poly = 0.3 * n + xy[:, :1] * u + xy[:, 1:] * v
-    points, areas = seed_face(poly, n, spacing)
+    points, areas = seed_face(poly, n, spacing, layout)
     np.testing.assert_allclose(areas.sum(), area, rtol=1e-12)
+    if layout == "centroid":
+        # first moment: each node sits at its clipped cell's centroid, so the nodes reproduce
+        # the polygon centroid exactly (shoelace formula)
+        cross = xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1]
+        cxy = ((xy + np.roll(xy, -1, axis=0)) * cross[:, None]).sum(axis=0) / (6 * area)
+        expected = 0.3 * n + cxy[0] * u + cxy[1] * v
+        centroid = (areas[:, None] * points).sum(axis=0) / areas.sum()
+        np.testing.assert_allclose(centroid, expected, atol=1e-12)
     np.testing.assert_allclose((points - poly[0]) @ n, 0.0, atol=1e-12)  # on the face
     assert np.all(areas <= spacing**2 * (1 + 1e-12))
 
