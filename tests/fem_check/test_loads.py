@@ -10,6 +10,7 @@ from fem_check.elastic import BlockSolver, ElasticMaterial
 from fem_check.loads import (
     BlockLoad,
     BlockPointLoads,
+    EquilibriumError,
     InterfaceResultants,
     TractionPatch,
     interface_block_loads,
@@ -161,3 +162,34 @@ def test_torque_free_spinning_block_is_balanced():
     sol = solver.solve(blk, load)
     np.testing.assert_allclose(sol.discrete_resultant[:3], 0.0, atol=1e-10 * scale)
     np.testing.assert_allclose(sol.discrete_resultant[3:], 0.0, atol=1e-10 * scale * blk.size)
+
+
+def test_masonry_state_pipeline(tmp_path):
+    """A wall state in equilibrium by construction (least-squares admissible resultants under
+    weight and lambda x lateral weight) goes through the fem-masonry-stress pipeline with a
+    load imbalance at round-off level, and a perturbed state is refused."""
+    from dem.scenes.running_bond_wall import running_bond_wall
+    from validation.cases.fem import run_masonry_stress
+
+    scene = running_bond_wall(3, 3, 81, 210, 70, 20.0, fixed_columns=("left",))
+    a = scene.assembly
+    lam = 0.2
+    ext = scene.dead_wrench + lam * scene.loads.live_wrench
+    state = admissible_resultants(a.interfaces(), a.centroid, scene.free_blocks, ext)
+    scene_json = tmp_path / "wall.json"
+    scene.to_json(scene_json)
+    arrays = {
+        "interface_block_a": state.interfaces.block_a,
+        "interface_block_b": state.interfaces.block_b,
+        "resultants": state.resultants,
+        "load_multiplier": np.array(lam),
+        "scene_json": np.array(str(scene_json)),
+    }
+    np.savez(tmp_path / "state.npz", **arrays)
+    rows, _ = run_masonry_stress(True, tmp_path / "state.npz", tmp_path)
+    assert rows[0].ours < 1e-10
+    assert (tmp_path / "fem-masonry-stress.vtu").exists()
+    arrays["resultants"] = state.resultants * 1.1  # no longer balances the weight
+    np.savez(tmp_path / "bad.npz", **arrays)
+    with pytest.raises(EquilibriumError):
+        run_masonry_stress(True, tmp_path / "bad.npz", tmp_path)
