@@ -129,8 +129,10 @@ class ExplicitSettings:
         Stiffness-proportional normal dashpot as a damping ratio at ``omega_max``
         (``beta = 2 contact_damping / omega_max``); default 0.1.
     parallel : bool or None
-        Evaluate contact entries in parallel; None: when there are at least
-        ``PARALLEL_MIN_ENTRIES`` entries and more than one core.
+        Evaluate contact entries in parallel (``prange`` over chunks of entries); None: when
+        there are at least ``PARALLEL_MIN_ENTRIES`` entries and more than one core. Default
+        False: on the shared 2-core machine the threads lose to the serial loop (see
+        ``benchmarks/bench_explicit.py``).
     chunk_steps : int
         Steps per call of the compiled loop (checkpoints fall on chunk ends); default 200.
     progress_every_s : float
@@ -153,7 +155,7 @@ class ExplicitSettings:
     mass_scaling: float = 1.0
     global_damping: float = 0.02
     contact_damping: float = 0.1
-    parallel: bool | None = None
+    parallel: bool | None = False
     chunk_steps: int = 200
     progress_every_s: float = 10.0
 
