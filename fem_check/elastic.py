@@ -149,7 +149,7 @@ class ShapeOperator:
 
     def _anchor_dofs(self) -> np.ndarray:
         """Six dofs of three far-apart vertices on which the rigid modes are non-singular."""
-        pts = self.tet_mesh.mesh.p.T
+        pts = self.tet_mesh.points
         a = int(np.argmax(np.linalg.norm(pts - self.reference.centroid, axis=1)))
         b = int(np.argmax(np.linalg.norm(pts - pts[a], axis=1)))
         ab = (pts[b] - pts[a]) / np.linalg.norm(pts[b] - pts[a])
@@ -405,7 +405,7 @@ class BlockSolution:
 
     def displacement_world(self) -> np.ndarray:
         """(n_vertices, 3) displacement of the mesh corners, world frame [m]."""
-        n_vert = self.operator.tet_mesh.mesh.p.shape[1]
+        n_vert = self.operator.tet_mesh.mesh.nvertices
         u_ref = self.u[: 3 * n_vert].reshape(-1, 3)  # vertex dofs come first, interleaved
         return u_ref @ self.block_mesh.rotation.T
 

@@ -81,8 +81,8 @@ class TetMesh:
 
     @property
     def points(self) -> np.ndarray:
-        """(n_vertices, 3) corner nodes [m]."""
-        return np.ascontiguousarray(self.mesh.p.T)
+        """(n_vertices, 3) corner nodes [m] (the edge nodes of a MeshTet2 follow in ``mesh.p``)."""
+        return np.ascontiguousarray(self.mesh.p[:, : self.mesh.nvertices].T)
 
     @property
     def tets(self) -> np.ndarray:
