@@ -865,19 +865,25 @@ def _to_reference(model: ExplicitModel, blocks: np.ndarray, points: np.ndarray) 
 def export_peak_state(model: ExplicitModel, sphere: tuple) -> dict:
     """Every nodal force at the model's current state, on both sides, for FEM post-processing.
 
+    All per-block vectors are given in that block's *reference* frame (the frame of
+    ``block_vertices``): a world vector ``v`` of block ``i`` is exported as ``R_i^T v``.
+
     Returns
     -------
     dict
-        ``block`` (k,) int64; ``point`` (k, 3) [m] in the reference configuration of that
-        block; ``force`` (k, 3) [N] acting on that block at that point (each block-block node
-        force appears twice, once per side, plus the indenter's nodal forces; support
-        reactions are not included); ``gravity`` (3,) [m/s^2]; ``acceleration``
-        (n_blocks, 6): the d'Alembert linear [m/s^2] and angular [rad/s^2] accelerations
-        that balance the contact forces and the true weight with the true density and
-        inertia, ``m a = F_contact + m g`` and ``I alpha = M_contact - omega x I omega``
-        (zero for fixed blocks; it includes whatever global damping and mass scaling add);
-        ``density`` (n_blocks,) [kg/m^3]; ``block_vertices`` (n_vert, 3) [m] with
-        ``vert_ptr`` (n_blocks + 1,).
+        ``block`` (k,) int64; ``point`` (k, 3) [m], reference configuration of that block;
+        ``force`` (k, 3) [N] acting on that block at that point (each block-block node force
+        appears twice, once per side, plus the indenter's nodal forces; support reactions are
+        not included); ``gravity`` (3,) [m/s^2] in the world frame and ``gravity_ref``
+        (n_blocks, 3) the same in each block's reference frame; ``acceleration``
+        (n_blocks, 6) the linear [m/s^2] and angular [rad/s^2] accelerations of the centroid
+        and ``angular_velocity`` (n_blocks, 3) [rad/s], reference frame, such that with the
+        true mass and inertia (``density``) ``sum force + m gravity_ref = m a`` and
+        ``sum (point - C0) x force = I alpha + omega x I omega`` for every free block (zero for
+        fixed blocks; ``a`` includes what global damping and mass scaling add to the motion);
+        ``fixed`` (n_blocks,) bool; ``density`` (n_blocks,) [kg/m^3]; ``block_vertices``
+        (n_vert, 3) [m] with ``vert_ptr`` (n_blocks + 1,); ``centroid`` (n_blocks, 3) [m],
+        reference centroids.
     """
     force, torque, ef, ep, ind = model.contact_wrenches(sphere)
     a_blk = model.node_block[model.pair_node]
@@ -886,34 +892,43 @@ def export_peak_state(model: ExplicitModel, sphere: tuple) -> dict:
     points = np.concatenate([ep[act], ep[act]])
     forces = np.concatenate([ef[act], -ef[act]])
     act_i = np.linalg.norm(ind, axis=1) > 0
+    quat_to_rot(model.quat, model.rot)
     if np.any(act_i):
-        quat_to_rot(model.quat, model.rot)
         ib = model.ind_block[act_i]
         ipts = model.pos[ib] + np.einsum("mij,mj->mi", model.rot[ib], model.ind_r0[act_i])
         blocks = np.concatenate([blocks, ib])
         points = np.concatenate([points, ipts])
         forces = np.concatenate([forces, ind[act_i]])
     ref_points = _to_reference(model, blocks, points)
+    rot = model.rot.copy()
+    ref_forces = np.einsum("mji,mj->mi", rot[blocks], forces)
     asm = model.scene.assembly
     gravity = np.asarray(model.scene.loads.gravity, dtype=float)
     acc = np.zeros((model.n_blocks, 6))
-    quat_to_rot(model.quat, model.rot)
+    omega_ref = np.zeros((model.n_blocks, 3))
     for i in model.free_blocks:
+        r = rot[i]
         m = model.mass_true[i]
-        acc[i, :3] = (force[i] + model.ext_force[i]) / m
-        iw = model.rot[i] @ model.inertia_true[i] @ model.rot[i].T
-        w = model.omega[i]
-        acc[i, 3:] = np.linalg.solve(iw, torque[i] + model.ext_torque[i] - np.cross(w, iw @ w))
+        acc[i, :3] = r.T @ (force[i] + model.ext_force[i]) / m
+        inertia = model.inertia_true[i]
+        w = r.T @ model.omega[i]
+        moment = r.T @ (torque[i] + model.ext_torque[i])
+        acc[i, 3:] = np.linalg.solve(inertia, moment - np.cross(w, inertia @ w))
+        omega_ref[i] = w
     arrays = asm.arrays
     return {
         "block": blocks.astype(np.int64),
         "point": ref_points,
-        "force": forces,
+        "force": ref_forces,
         "gravity": gravity,
+        "gravity_ref": np.einsum("nji,j->ni", rot, gravity),
         "acceleration": acc,
+        "angular_velocity": omega_ref,
+        "fixed": model.fixed.copy(),
         "density": asm.density.copy(),
         "block_vertices": arrays.vertices.copy(),
         "vert_ptr": arrays.vert_ptr.copy(),
+        "centroid": model.ref_centroid.copy(),
     }
 
 

@@ -71,17 +71,26 @@ def test_curve_summary_triangle():
 
 
 def test_peak_state_is_balanced():
-    """The exported peak state: forces on each free block plus its weight equal m a."""
+    """The exported peak state (reference frames): on every free block the nodal forces and the
+    true weight balance m a, and their moments about the reference centroid balance
+    I alpha + omega x I omega, with the block's own closed-form mass properties."""
     res = run(tis_panel_k_def(3))
     ps = res.peak_state
-    n = len(ps["density"])
+    scene = tis_panel(3, 2.5)
+    asm = scene.assembly
+    n = asm.n_blocks
     total = np.zeros((n, 3))
     np.add.at(total, ps["block"], ps["force"])
-    scene = tis_panel(3, 2.5)
-    mass = scene.assembly.mass
-    free = ~scene.supports.fixed
-    lhs = total[free] + mass[free, None] * ps["gravity"]
-    np.testing.assert_allclose(lhs, mass[free, None] * ps["acceleration"][free, :3],
-                               atol=1e-9 * np.abs(ps["force"]).max())  # fmt: skip
+    moment = np.zeros((n, 3))
+    np.add.at(moment, ps["block"], np.cross(ps["point"] - asm.centroid[ps["block"]], ps["force"]))
+    scale = np.abs(ps["force"]).max()
+    for i in np.flatnonzero(~ps["fixed"]):
+        m, inertia = asm.mass[i], asm.inertia[i]
+        np.testing.assert_allclose(total[i] + m * ps["gravity_ref"][i],
+                                   m * ps["acceleration"][i, :3], atol=1e-9 * scale)  # fmt: skip
+        w = ps["angular_velocity"][i]
+        expected = inertia @ ps["acceleration"][i, 3:] + np.cross(w, inertia @ w)
+        np.testing.assert_allclose(moment[i], expected, atol=1e-9 * scale * 0.01)
     assert ps["point"].shape == ps["force"].shape and ps["block"].dtype == np.int64
     assert len(ps["vert_ptr"]) == n + 1
+    np.testing.assert_array_equal(ps["fixed"], scene.supports.fixed)
