@@ -14,6 +14,7 @@ Results are in the world frame unless a name says ``_ref``.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,13 +30,19 @@ _TET_CORNERS = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 
 _TET_EDGES = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]])
 
 
+# per-shape bases and factors, kept as long as the shape operator lives
+_CORNER_BASES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_P1_PROJECTIONS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def _corner_basis(op: ShapeOperator) -> skfem.CellBasis:
-    basis = getattr(op, "_corner_basis", None)
+    """The displacement basis evaluated at the four corners of every tetrahedron."""
+    basis = _CORNER_BASES.get(op)
     if basis is None:
         basis = skfem.Basis(
             op.tet_mesh.mesh, op.basis.elem, quadrature=(_TET_CORNERS, np.full(4, 1.0 / 24.0))
         )
-        op._corner_basis = basis
+        _CORNER_BASES[op] = basis
     return basis
 
 
@@ -86,11 +93,12 @@ def _p1_mass(u, v, w):
 
 
 def _p1_projection(op: ShapeOperator):
-    cached = getattr(op, "_p1", None)
+    """P1 basis on the displacement quadrature and the factorised P1 mass matrix of a shape."""
+    cached = _P1_PROJECTIONS.get(op)
     if cached is None:
         p1 = skfem.Basis(op.tet_mesh.mesh, skfem.ElementTetP1(), quadrature=op.basis.quadrature)
         cached = (p1, splu(_p1_mass.assemble(p1).tocsc()))
-        op._p1 = cached
+        _P1_PROJECTIONS[op] = cached
     return cached
 
 
