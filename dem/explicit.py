@@ -1031,10 +1031,10 @@ def simulate_indentation(
         st.delta_now = delta
         st.record(model, delta, p_mean, acc[1])
         if delta >= st.next_snapshot:
+            _, _, ef, ep, _ = model.contact_wrenches(None)
             pairs, force, point = interface_resultants(
-                model.pair_node, model.pair_block, model.node_block, model.out_force,
-                model.out_point,
-            )  # fmt: skip
+                model.pair_node, model.pair_block, model.node_block, ef, ep
+            )
             st.snapshots.append({"delta": delta, "pairs": pairs, "force": force,
                                  "point": point, "kind": "run"})  # fmt: skip
             st.next_snapshot += indentation.snapshot_interval
