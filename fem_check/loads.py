@@ -506,9 +506,12 @@ class BlockPointLoads:
     angular_velocity : (n_blocks, 3) float or None
         [rad/s]; None means zero (then a spinning block's ``omega x I omega`` shows up as a
         moment imbalance).
-
-    All vectors must be in one frame, the frame of the block vertices the loads are applied
-    to (world frame with current vertices, or each block's reference frame throughout).
+    rotation : (n_blocks, 3, 3) float or None
+        Rotation of each block from its reference configuration to the current one. When
+        given, ``point`` lies in the reference configuration of its block (with the block
+        vertices) while ``force``, ``gravity``, ``acceleration`` and ``angular_velocity`` are
+        world vectors: :meth:`for_block` turns them into the block's reference frame,
+        ``v_ref = R^T v``. When None, every array is in one frame already.
     """
 
     block: np.ndarray
@@ -518,6 +521,7 @@ class BlockPointLoads:
     acceleration: np.ndarray
     density: np.ndarray
     angular_velocity: np.ndarray | None = None
+    rotation: np.ndarray | None = None
 
     def __post_init__(self):
         blk = np.asarray(self.block, dtype=np.int64).reshape(-1)
@@ -539,6 +543,16 @@ class BlockPointLoads:
             if a.shape != shape or not np.all(np.isfinite(a)):
                 raise ValueError(f"{name} must be finite with shape {shape}, got {a.shape}")
             object.__setattr__(self, name, a)
+        if self.rotation is not None:
+            rot = np.asarray(self.rotation, dtype=float)
+            if rot.shape != (n, 3, 3) or not np.all(np.isfinite(rot)):
+                raise ValueError(f"rotation must be finite with shape ({n}, 3, 3), got {rot.shape}")
+            err = np.abs(np.einsum("nji,njk->nik", rot, rot) - np.eye(3)).max() if n else 0.0
+            if err > 1e-6 or np.any(np.linalg.det(rot) < 0):
+                raise ValueError(
+                    f"rotation must hold proper rotation matrices (R^T R - I: {err:.1e})"
+                )
+            object.__setattr__(self, "rotation", rot)
         if k and (blk.min() < 0 or blk.max() >= n):
             raise ValueError(f"block index out of range 0..{n - 1}")
         object.__setattr__(self, "block", blk)
@@ -550,23 +564,42 @@ class BlockPointLoads:
     def for_block(self, i: int) -> BlockLoad:
         """The :class:`BlockLoad` of block ``i``."""
         sel = self.block == i
+        rot = np.eye(3) if self.rotation is None else self.rotation[i]
+        acc = self.acceleration[i]
         return BlockLoad(
             self.point[sel],
-            self.force[sel],
+            self.force[sel] @ rot,  # rows: v_ref = R^T v
             (),
             float(self.density[i]),
-            self.gravity,
-            self.acceleration[i],
-            self.angular_velocity[i],
+            self.gravity @ rot,
+            np.concatenate([acc[:3] @ rot, acc[3:] @ rot]),
+            self.angular_velocity[i] @ rot,
             "DEM node forces",
         )
+
+
+def rotation_from_quaternion(quaternion: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) rotation matrices of (n, 4) quaternions, scalar first (normalised here)."""
+    q = np.asarray(quaternion, dtype=float).reshape(-1, 4)
+    w, x, y, z = (q / np.linalg.norm(q, axis=1, keepdims=True)).T
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        axis=1,
+    )
 
 
 def read_point_state(path: str | Path) -> tuple[BlockPointLoads, list[np.ndarray]]:
     """Read a TIS DEM state (``validation/results/tis-peak-state.npz`` layout).
 
     Arrays ``block``, ``point``, ``force``, ``gravity``, ``acceleration``, ``density``,
-    ``block_vertices``, ``vert_ptr`` and, if present, ``angular_velocity`` (n_blocks, 3).
+    ``block_vertices``, ``vert_ptr`` and, if present, ``angular_velocity`` (n_blocks, 3) and
+    the block rotations from reference to current configuration, ``rotation``
+    (n_blocks, 3, 3) or ``quaternion`` (n_blocks, 4), scalar first (see
+    :class:`BlockPointLoads` for the frames).
 
     Returns
     -------
@@ -578,9 +611,14 @@ def read_point_state(path: str | Path) -> tuple[BlockPointLoads, list[np.ndarray
         ptr = np.asarray(data["vert_ptr"], dtype=np.int64)
         verts = np.asarray(data["block_vertices"], dtype=float).reshape(-1, 3)
         omega = data["angular_velocity"] if "angular_velocity" in data else None
+        rotation = None
+        if "rotation" in data:
+            rotation = data["rotation"]
+        elif "quaternion" in data:
+            rotation = rotation_from_quaternion(data["quaternion"])
         loads = BlockPointLoads(
             data["block"], data["point"], data["force"], data["gravity"],
-            data["acceleration"], data["density"], omega,
+            data["acceleration"], data["density"], omega, rotation,
         )  # fmt: skip
     return loads, [verts[ptr[i] : ptr[i + 1]] for i in range(len(ptr) - 1)]
 

@@ -1,5 +1,7 @@
 """DEM loads on a block: wrench to traction, interface signs, consistent point loads."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -193,3 +195,42 @@ def test_masonry_state_pipeline(tmp_path):
     np.savez(tmp_path / "bad.npz", **arrays)
     with pytest.raises(EquilibriumError):
         run_masonry_stress(True, tmp_path / "bad.npz", tmp_path)
+
+
+def test_point_state_in_reference_points_and_world_vectors():
+    """Points in the block's reference configuration, forces and accelerations in the world
+    frame of the rotated block: with the rotation given, the load balances again."""
+    from fem_check.loads import check_equilibrium, rotation_from_quaternion
+
+    phi = 0.3  # rotation about z by phi: the textbook matrix
+    rz = rotation_from_quaternion(np.array([[np.cos(phi / 2), 0, 0, np.sin(phi / 2)]]))[0]
+    np.testing.assert_allclose(
+        rz, [[np.cos(phi), -np.sin(phi), 0], [np.sin(phi), np.cos(phi), 0], [0, 0, 1]], atol=1e-15
+    )
+    blk = box([0, 0, 0], [2e-3, 1e-3, 1.5e-3])
+    rng = np.random.default_rng(5)
+    rho, g_ref = 2500.0, np.array([0.3, -0.2, -9.81])
+    acc_ref = np.r_[0.5, 0.1, -0.4, 0, 0, 0]
+    pts = np.c_[rng.uniform(0, 2e-3, 20), rng.uniform(0, 1e-3, 20), np.full(20, 1.5e-3)]
+    frc = rng.normal(size=(20, 3))
+    partial = BlockLoad(pts, frc, (), rho, g_ref, acc_ref)
+    f, m = partial.resultant(blk)
+    base = blk.vertices[blk.faces[int(np.argmin(blk.normals[:, 2]))]]
+    balanced = nodal_forces(
+        partial.with_patches(wrench_patches([base], -f, -m, blk.centroid)), 2e-4
+    )
+    check_equilibrium(blk, balanced, 1e-12)
+    rot = rotation_from_quaternion(np.array([[0.9, 0.1, -0.3, 0.2]]))[0]
+    state = BlockPointLoads(
+        np.zeros(len(balanced.points), dtype=np.int64),
+        balanced.points,
+        balanced.forces @ rot.T,
+        rot @ g_ref,
+        np.r_[rot @ acc_ref[:3], rot @ acc_ref[3:]][None],
+        np.array([rho]),
+        rotation=rot[None],
+    )
+    check_equilibrium(blk, state.for_block(0), 1e-12)
+    mixed = dataclasses.replace(state, rotation=None)
+    with pytest.raises(EquilibriumError):
+        check_equilibrium(blk, mixed.for_block(0), 1e-3)
