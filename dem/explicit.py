@@ -246,6 +246,8 @@ class IndentationSettings:
     ----------
     block : int or None
         Block under the indenter; None: ``scene.meta["central_block"]``.
+    axis_xy : (2,) tuple or None
+        ``(x, y)`` of the indenter path [m]; None: the centre of the block's top face.
     tip_radius : float
         [m]; default 1.25 mm (seed 000: a "2.5 mm spherical tip", read as its diameter).
     speed : float
@@ -270,6 +272,7 @@ class IndentationSettings:
     """
 
     block: int | None = None
+    axis_xy: tuple | None = None
     tip_radius: float = 1.25 * MM
     speed: float = 5.0 * MM
     max_deflection: float = 6.0 * MM
@@ -399,6 +402,9 @@ class ExplicitModel:
         Block whose top face the indenter will load (nodes are seeded under its path).
     indenter_radius : float
         [m].
+    indenter_axis_xy : (2,) float, optional
+        ``(x, y)`` of the indenter's vertical path [m]; default the centre of the top face of
+        ``indenter_block``.
 
     Raises
     ------
@@ -413,6 +419,7 @@ class ExplicitModel:
         settings: ExplicitSettings,
         indenter_block: int | None = None,
         indenter_radius: float = 0.0,
+        indenter_axis_xy: np.ndarray | None = None,
     ):
         self.scene = scene
         self.settings = settings
@@ -454,7 +461,12 @@ class ExplicitModel:
         if indenter_block is not None:
             if not 0 <= indenter_block < n or self.fixed[indenter_block]:
                 raise ValueError(f"indenter block {indenter_block} must be a free block")
-            axis_xy = self._top_centre(indenter_block)[:2]
+            axis_xy = (
+                self._top_centre(indenter_block)[:2]
+                if indenter_axis_xy is None
+                else np.asarray(indenter_axis_xy, dtype=float)
+            )
+        self.indenter_axis_xy = axis_xy
         ind_spacing = settings.indenter_node_spacing
         if ind_spacing is None:
             ind_spacing = min(
@@ -986,7 +998,7 @@ def simulate_indentation(
         if "central_block" not in scene.meta:
             raise ValueError("IndentationSettings.block is None and the scene has no central_block")
         block = int(scene.meta["central_block"])
-    model = ExplicitModel(scene, settings, block, indentation.tip_radius)
+    model = ExplicitModel(scene, settings, block, indentation.tip_radius, indentation.axis_xy)
     setup_s = time.perf_counter() - wall0
     key = _settings_key(scene, settings, relaxation, indentation)
     ckpt = Path(checkpoint) if checkpoint is not None else None
@@ -1001,7 +1013,11 @@ def simulate_indentation(
             model.pos[block] - model.rot[block] @ model.ref_centroid[block]
         )
         shift = model.pos[block] - model.ref_centroid[block]
-        centre_xy = model._top_centre(block)[:2] + shift[:2]
+        centre_xy = (
+            model._top_centre(block)[:2] + shift[:2]
+            if indentation.axis_xy is None
+            else np.asarray(indentation.axis_xy, dtype=float)
+        )
         st.centre0 = np.array(
             [centre_xy[0], centre_xy[1], top_world[:, 2].max() + indentation.tip_radius]
         )
