@@ -65,7 +65,14 @@ from limit.matrices import (
     vertex_force_matrix,
 )
 
-__all__ = ["LimitSettings", "StaticProblem", "build_static_problem", "MODELS"]
+__all__ = [
+    "LimitSettings",
+    "StaticProblem",
+    "KinematicProblem",
+    "build_static_problem",
+    "build_kinematic_problem",
+    "MODELS",
+]
 
 MODELS = ("vertex", "resultant")
 _TORSION = ("interaction", "independent")
@@ -465,3 +472,77 @@ def _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1_hat,
         cp.SOC(a + b, cp.vstack([2 * w, a - b]), axis=0),
         cp.PowCone3D(w, np.full(m, kappa), c_hat, 2.0 / 3.0),
     ]
+
+
+@dataclass(eq=False)
+class KinematicProblem:
+    """The kinematic (mechanism) programme of the vertex model, dual to the static one.
+
+    Attributes
+    ----------
+    problem : cvxpy.Problem
+    velocity : cvxpy.Variable
+        Scaled velocities of the free dofs (row ``i`` divided by ``row_scale[i]``).
+    lam_scale : float
+        ``lambda = lam_scale * problem.value``.
+    row_scale : (n_free,) float
+    free : (6 n_blocks,) bool
+    """
+
+    problem: cp.Problem
+    velocity: cp.Variable
+    lam_scale: float
+    row_scale: np.ndarray
+    free: np.ndarray
+
+
+def build_kinematic_problem(scene: Scene, settings: LimitSettings | None = None):
+    r"""Kinematic programme of the vertex model (upper-bound theorem, associated flow).
+
+    .. math::
+
+        \lambda^+ = \min_{\dot u}\ -F_D^T \dot u \quad \text{s.t.} \quad F_L^T \dot u \ge 1,
+        \qquad (A_{eq} B)^T \dot u \in K^*,
+
+    with :math:`K^* = \{(a, b) : a \ge \mu \|b\|\}` per corner: every corner opens at least
+    :math:`\mu` times its slip (normality of the Coulomb cone, i.e. dilatancy). It is the
+    conic dual of :func:`build_static_problem` (vertex model), written independently, so that
+    both theorems can be checked against each other.
+
+    Raises
+    ------
+    ValueError
+        For the resultant model, inscribed polygons or a compressive strength (not written
+        in kinematic form here).
+    """
+    settings = settings or LimitSettings()
+    if settings.interface_model != "vertex" or settings.friction_polygon is not None:
+        raise ValueError("the kinematic programme is written for the exact vertex model only")
+    if settings.compressive_strength is not None:
+        raise ValueError("the kinematic programme has no compressive strength")
+    interfaces = scene.assembly.interfaces()
+    free = scene.supports.free_dofs.ravel()
+    a_eq = equilibrium_matrix(scene.assembly.centroid, interfaces)[free]
+    dead = scene.dead_wrench.ravel()[free]
+    live = scene.loads.live_wrench.ravel()[free]
+    weight, _, row_scale = _scales(scene, free, interfaces)
+    live_norm = float(np.sum(np.abs(live * row_scale)))
+    lam_scale = 1.0 / live_norm if live_norm > 0 else 1.0
+    vi, _ = interface_vertices(interfaces)
+    mu = interface_friction(interfaces, scene.assembly.mu, settings.mu)[vi]
+    f_t = settings.tensile_strength * interfaces.area
+    f_offset = np.zeros(6 * interfaces.n_interfaces)
+    f_offset[0::6] = f_t
+    b = vertex_force_matrix(interfaces)
+    # scaled: rows by row_scale, corner forces by W (as in the static programme)
+    ab = (sp.diags(row_scale) @ a_eq @ b * weight).T.tocsr()  # (3 p, n_free)
+    d_dead = row_scale * (dead + a_eq @ f_offset)
+    d_live = row_scale * live * lam_scale
+    v = cp.Variable(len(dead), name="velocity")
+    w_p, w_1, w_2 = ab[0::3] @ v, ab[1::3] @ v, ab[2::3] @ v
+    cons = [
+        d_live @ v >= 1,
+        cp.SOC(w_p, cp.vstack([cp.multiply(mu, w_1), cp.multiply(mu, w_2)]), axis=0),
+    ]
+    problem = cp.Problem(cp.Minimize(-d_dead @ v), cons)
+    return KinematicProblem(problem, v, lam_scale, row_scale, free)

@@ -38,11 +38,23 @@ from limit.certificates import (
 )
 from limit.errors import LimitAnalysisError
 from limit.matrices import rocking_constraints
-from limit.problems import LimitSettings, StaticProblem, build_static_problem
+from limit.problems import (
+    LimitSettings,
+    StaticProblem,
+    build_kinematic_problem,
+    build_static_problem,
+)
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["LimitResult", "limit_analysis", "solve_static", "check_scene", "ACCEPTED"]
+__all__ = [
+    "LimitResult",
+    "limit_analysis",
+    "kinematic_analysis",
+    "solve_static",
+    "check_scene",
+    "ACCEPTED",
+]
 
 ACCEPTED = ("optimal", "optimal_inaccurate")
 
@@ -311,3 +323,45 @@ def limit_analysis(
     sp_ = build_static_problem(scene, settings)
     sp_.extra["build_s"] = time.perf_counter() - t0
     return solve_static(sp_, certify=certify)
+
+
+def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> tuple:
+    """Solve the kinematic programme of the vertex model (:func:`build_kinematic_problem`).
+
+    Returns
+    -------
+    lam : float
+        The kinematic multiplier (equal to the static one by conic duality).
+    velocities : (n_blocks, 6) float
+        The mechanism, normalised to unit live-load power.
+    status : str
+
+    Raises
+    ------
+    LimitAnalysisError
+        With the structural message of the static programme: the kinematic programme is
+        unbounded below when the structure falls by itself and infeasible when no mechanism
+        exists.
+    """
+    settings = settings or LimitSettings()
+    check_scene(scene)
+    kp = build_kinematic_problem(scene, settings)
+    try:
+        kp.problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **_clarabel_options(settings))
+    except cp.error.SolverError as exc:
+        raise LimitAnalysisError(f"Clarabel failed: {exc}") from exc
+    status = kp.problem.status
+    if status in ("unbounded", "unbounded_inaccurate"):
+        raise LimitAnalysisError(f"{MSG_INFEASIBLE} [kinematic status {status}]")
+    if status in ("infeasible", "infeasible_inaccurate"):
+        raise LimitAnalysisError(f"{MSG_UNBOUNDED} [kinematic status {status}]")
+    if status not in ACCEPTED:
+        raise LimitAnalysisError(f"no certified optimum: solver status {status!r}")
+    if status == "optimal_inaccurate":
+        warnings.warn("kinematic limit analysis: optimal_inaccurate", stacklevel=2)
+    u = np.asarray(kp.velocity.value, float) * kp.row_scale
+    live = scene.loads.live_wrench.ravel()[kp.free]
+    u = u / float(live @ u)
+    vel = np.zeros(6 * scene.n_blocks)
+    vel[kp.free] = u
+    return float(kp.problem.value) * kp.lam_scale, vel.reshape(-1, 6), status

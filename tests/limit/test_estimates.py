@@ -68,3 +68,18 @@ def test_reduced_friction_sliding_block():
     # a single sliding joint has a unique normal force: the iteration is exact at once
     assert b.iterative.converged
     np.testing.assert_allclose(b.iterative.lam, mu, rtol=1e-6)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_static_equals_kinematic(seed):
+    """The kinematic theorem (independent programme over block velocities, associated flow)
+    gives the same multiplier as the static one; its mechanism does unit live-load power and
+    its dead-load power is -lambda."""
+    from limit.solve import kinematic_analysis, limit_analysis
+
+    scene = _random_wall(seed)
+    static = limit_analysis(scene, LimitSettings(interface_model="vertex"))
+    lam_k, vel, _ = kinematic_analysis(scene, LimitSettings(interface_model="vertex"))
+    np.testing.assert_allclose(lam_k, static.lam, rtol=1e-6)
+    np.testing.assert_allclose(np.sum(vel * scene.loads.live_wrench), 1.0, rtol=1e-9)
+    np.testing.assert_allclose(-np.sum(vel * scene.dead_wrench), lam_k, rtol=1e-6)
