@@ -27,17 +27,23 @@ def chain_scene(n_blocks, stress):
     return scene.with_loads(dead=dead)
 
 
-@pytest.mark.parametrize("spacing", [SIDE / 3, SIDE / 7.5])
-def test_chain_shortens_by_m_sigma_over_kn(spacing):
+@pytest.mark.parametrize(
+    ("spacing", "distance"),
+    [(SIDE / 3, "planes"), (SIDE / 7.5, "planes"), (SIDE / 3, "level_set")],
+)
+def test_chain_shortens_by_m_sigma_over_kn(spacing, distance):
     """A chain of M+1 blocks under stress sigma shortens by M sigma / k_n (seed 000 Sec. 2.3).
 
     Each interface is counted once, the tributary areas sum to the face area exactly, so the
     result holds at any node spacing (here 3 and 7.5 nodes per side, the latter with clipped
-    edge cells).
+    edge cells), with the face planes or with level-set grids (trilinear interpolation is exact
+    where a grid cell sees one face plane only).
     """
     m_interfaces, stress, k_n = 3, 2e6, 1e11
     scene = chain_scene(m_interfaces + 1, stress)
-    model = ExplicitModel(scene, ExplicitSettings(k_n=k_n, node_spacing=spacing))
+    settings = ExplicitSettings(k_n=k_n, node_spacing=spacing, signed_distance=distance,
+                                level_set_spacing=SIDE / 20)  # fmt: skip
+    model = ExplicitModel(scene, settings)
     model.relax(RelaxationSettings(ke_speed=1e-9, min_steps=2000, max_steps=200000,
                                    global_damping=0.2))  # fmt: skip
     shortening = model.ref_centroid[-1, 0] - model.pos[-1, 0]
