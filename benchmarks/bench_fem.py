@@ -41,7 +41,7 @@ def main() -> None:
     path = RESULTS_DIR / "tis-peak-state.npz"
     state = "synthetic admissible state"
     if path.exists():
-        blocks, loads, fixed = dem_tis_state(path)
+        blocks, loads, fixed, _ = dem_tis_state(path)
         if _dem_state_check(blocks, loads, fixed)[2]:
             state = f"DEM state {path.name}"
     if state.startswith("synthetic"):
