@@ -20,8 +20,16 @@ import numpy as np
 RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
 OUT = Path(__file__).resolve().parent / "out"
 CASES = {
-    "fem-tis-stress": ("fig_fem_tis_stress.png", "5x5 TIS panel at peak load"),
-    "fem-masonry-stress": ("fig_fem_masonry_stress.png", "masonry wall at collapse"),
+    "fem-tis-stress": (
+        "fig_fem_tis_stress.png",
+        "5x5 TIS panel at peak load",
+        (("from above", "xy", False), ("from below", "xy", True)),
+    ),
+    "fem-masonry-stress": (
+        "fig_fem_masonry_stress.png",
+        "masonry wall at collapse",
+        (("front face (-y)", "xz", False), ("back face (+y)", "xz", True)),
+    ),
 }
 
 
@@ -35,14 +43,14 @@ def _state(case: str) -> str:
 
 
 def draw(case: str) -> Path:
-    """Largest principal stress on the block surfaces, seen from above and from below."""
+    """Largest principal stress on the block surfaces, seen from two opposite sides."""
     os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
     import pyvista as pv
 
     vtu = RESULTS / f"{case}.vtu"
     if not vtu.exists():
         raise FileNotFoundError(f"{vtu} is missing: run `python -m validation run {case}` first")
-    png, what = CASES[case]
+    png, what, views = CASES[case]
     grid = pv.read(str(vtu))
     mpa = np.asarray(grid.point_data["max_principal"]) / 1e6
     grid.point_data["largest principal stress [MPa]"] = mpa
@@ -50,7 +58,7 @@ def draw(case: str) -> Path:
     top = float(np.percentile(np.abs(mpa), 99.5)) or 1.0
     surface = grid.extract_surface(algorithm="dataset_surface")
     plotter = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1800, 800))
-    for col, (label, negative) in enumerate((("from above", False), ("from below", True))):
+    for col, (label, plane, negative) in enumerate(views):
         plotter.subplot(0, col)
         plotter.add_mesh(
             surface,
@@ -59,7 +67,7 @@ def draw(case: str) -> Path:
             clim=(-top, top),
             show_scalar_bar=col == 1,
         )
-        plotter.view_xy(negative=negative)
+        getattr(plotter, f"view_{plane}")(negative=negative)
         plotter.add_text(f"{what}, {label}", font_size=10)
     plotter.subplot(0, 0)
     plotter.add_text(_state(case), position="lower_left", font_size=8)

@@ -183,7 +183,7 @@ def test_masonry_state_pipeline(tmp_path):
     arrays = {
         "interface_block_a": state.interfaces.block_a,
         "interface_block_b": state.interfaces.block_b,
-        "resultants": state.resultants,
+        "resultants": -state.resultants,  # dem.static signs: tension positive
         "load_multiplier": np.array(lam),
         "scene_json": np.array(str(scene_json)),
     }
@@ -191,7 +191,7 @@ def test_masonry_state_pipeline(tmp_path):
     rows, _ = run_masonry_stress(True, tmp_path / "state.npz", tmp_path)
     assert rows[0].ours < 1e-10
     assert (tmp_path / "fem-masonry-stress.vtu").exists()
-    arrays["resultants"] = state.resultants * 1.1  # no longer balances the weight
+    arrays["resultants"] = -state.resultants * 1.1  # no longer balances the weight
     np.savez(tmp_path / "bad.npz", **arrays)
     with pytest.raises(EquilibriumError):
         run_masonry_stress(True, tmp_path / "bad.npz", tmp_path)
