@@ -95,7 +95,7 @@ class ElasticMaterial:
 
 
 class ShapeOperator:
-    """Stiffness, mass, rigid modes and the factorised saddle-point matrix of one block shape.
+    """Stiffness, mass, rigid modes and the factorised anchored stiffness of one block shape.
 
     Parameters
     ----------
@@ -385,7 +385,8 @@ class BlockSolution:
     u : (n_dofs,) float
         Displacement dofs in the reference frame [m].
     multipliers : (6,) float
-        Lagrange multipliers of the rigid-mode constraints; zero for a balanced load.
+        Lagrange multipliers of the rigid-mode constraints (the rigid-body acceleration per unit
+        density that carries the load's resultant); zero for a balanced load.
     equilibrium : EquilibriumReport
         Resultant of the loads (world frame), checked before the solve.
     discrete_resultant : (6,) float
