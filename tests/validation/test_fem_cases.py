@@ -1,0 +1,27 @@
+"""Smoke tests of the `fem-patch` and `fem-strip` cases (quick versions)."""
+
+from validation.__main__ import CASES
+from validation.report import write_results
+
+
+def test_fem_patch_case_quick(tmp_path):
+    rows, notes = CASES["fem-patch"](quick=True)
+    assert notes
+    patch = [r for r in rows if r.quantity.startswith("patch test")]
+    assert len(patch) == 4
+    for row in patch:  # closed form: uniform stress, to round-off
+        assert row.ours <= 1e-10, row.quantity
+    rates = {r.quantity[12:14]: r.ours for r in rows if "observed rate" in r.quantity}
+    # a priori: the cut error falls at least like h^p (P1: 1, P2: 2); 0.3 of slack for the
+    # unstructured, non-nested meshes of three sizes
+    assert rates["P1"] > 0.7 and rates["P2"] > 1.7
+    write_results("fem-patch", rows, quick=True, wall_s=0.0, out_dir=tmp_path)
+
+
+def test_fem_strip_prism_is_exact():
+    """theta = 0: the strip is a prism, whose shortening is sigma L / E exactly."""
+    from validation.cases.fem import YOUNG, strip_stiffness
+
+    r = strip_stiffness(0.0, 2.0e-3)
+    assert abs(r["E_eff"] / YOUNG - 1.0) < 1e-10
+    assert r["M"] == 6 and abs(r["length"] - 0.05) < 1e-15
