@@ -128,8 +128,18 @@ def mechanism(result: IndentationResult, scene: Scene) -> dict:
     }
 
 
+def energy_check(res: IndentationResult) -> float:
+    """Largest (kinetic + penalty energy) / (indenter work) over the run: at most 1 when no
+    energy is created (friction and damping dissipate the rest)."""
+    ok = res.work > 0.01 * res.work.max()
+    if not np.any(ok):
+        return float("nan")
+    return float(np.max((res.kinetic[ok] + res.elastic[ok]) / res.work[ok]))
+
+
 def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict) -> list[Row]:
     wall = res.info["wall_s"]
+    extra = {**extra, "energy_over_work_max": energy_check(res)}
     return [
         Row(f"{label}: peak load [N]", res.peak_load, None, "", wall, settings, extra),
         Row(
@@ -387,7 +397,8 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
         {"steps": info["steps_indentation"] + info["steps_relaxation"], "n_nodes": info["n_nodes"],
          "cost_per_node_step_ns": info["cost_per_node_step_s"] * 1e9,
          "ultimate_deflection_mm": full.ultimate_deflection / MM, **mechanism(full, scene),
-         "quick_not_converged": quick},
+         "within_1pct": bool(abs(full.peak_load / finest_spacing.peak_load - 1) <= 0.01),
+         "energy_over_work_max": energy_check(full), "quick_not_converged": quick},
     ))  # fmt: skip
     store["converged/delta"] = full.delta
     store["converged/load"] = full.load
