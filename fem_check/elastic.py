@@ -509,6 +509,15 @@ class BlockSolver:
             If the load's imbalance exceeds ``rel_tol`` (checked before any solve).
         """
         report = check_equilibrium(block, load, self.rel_tol, name)
+        log.info(
+            "%s: load imbalance |F| = %.3e N (%.1e of %.3e N), |M| = %.3e N m (%.1e)",
+            name,
+            np.linalg.norm(report.force),
+            report.rel_force,
+            report.scale,
+            np.linalg.norm(report.moment),
+            report.rel_moment,
+        )
         bm = self.mesh(block)
         op = self.operator(bm)
         t0 = time.perf_counter()
