@@ -1,0 +1,35 @@
+"""Quick-mode TIS validation cases as smoke tests with their independent expectations (slow)."""
+
+import pytest
+
+pytestmark = pytest.mark.slow
+
+
+def _rows(out):
+    rows, notes = out
+    assert notes
+    return {r.quantity: r for r in rows}
+
+
+def test_tis_panels_quick():
+    from validation.cases.tis import run_panels
+
+    rows = _rows(run_panels(quick=True))
+    # P scales exactly with k_n (homogeneity), no interlock means no load
+    assert rows["3x3 theta=2.5: P_max(10 E) / P_max(E)"].rel_error < 0.05
+    assert rows["3x3 theta=0 (no interlock): P_max / P_max(theta=2.5)"].ours < 0.05
+    ratio = rows["3x3 theta=2.5: P_calibrated / P_perfect"]
+    assert abs(ratio.extra["rel_to_k_ratio"]) < 0.03
+    for q, r in rows.items():
+        if q.endswith("peak load [N]"):
+            assert r.extra["central_out"], q  # the central block slips out (seed 000 Fig. 5b)
+            assert r.extra["energy_over_work_max"] <= 1.0, q  # no energy created
+
+
+def test_tis_friction_quick():
+    from validation.cases.tis import run_friction
+
+    rows = _rows(run_friction(quick=True))
+    # smaller friction, lower peak (seed 000 Fig. 9a)
+    assert rows["P_max(mu=0.21) / P_max(mu=0.23)"].ours < 1.0
+    assert rows["P_max(mu=0.19) / P_max(mu=0.23)"].ours < 1.0
