@@ -164,6 +164,10 @@ class StaticSettings:
     monitor : tuple of (int, int) or None
         ``(block, dof)`` whose displacement the pushover also records; None: the free block
         with the largest live-direction translation in the mechanism.
+    on_failure : {"raise", "stop"}
+        On a live step that does not converge even at the smallest increment (and is not on
+        the plateau): raise :class:`StaticSolverError`, or stop and return the path so far
+        with ``termination = "no_convergence"`` (the message is in ``StaticResult.failure``).
     """
 
     interface_model: str = "resultant"
@@ -180,7 +184,7 @@ class StaticSettings:
     max_step_factor: float = 200.0
     max_steps: int = 400
     max_iterations: int = 30
-    target_iterations: int = 6
+    target_iterations: int = 10
     tolerance: float = 1e-6
     accept_tolerance: float = 1e-4
     tangent_floor: float = 1e-9
@@ -190,8 +194,11 @@ class StaticSettings:
     softening_drop: float = 0.2
     dead_steps: int = 1
     monitor: tuple[int, int] | None = None
+    on_failure: str = "raise"
 
     def __post_init__(self):
+        if self.on_failure not in ("raise", "stop"):
+            raise ValueError(f"on_failure must be 'raise' or 'stop', got {self.on_failure!r}")
         if self.interface_model not in INTERFACE_MODELS:
             raise ValueError(
                 f"interface_model must be one of {INTERFACE_MODELS}, got {self.interface_model!r}"
@@ -268,8 +275,14 @@ class StaticResult:
         Converged live steps, Newton iterations in all.
     n_loose_steps : int
         Steps accepted with ``accept_tolerance`` rather than ``tolerance``.
+    n_cascades : int
+        Brittle cracking cascades (no equilibrium path even for the smallest step): the cracks
+        of the failed trial are kept and the path restarts from the last equilibrium.
+    failure : str
+        With ``on_failure="stop"``: the non-convergence message that ended the analysis.
     termination : str
-        ``"plateau"``, ``"softening"`` or ``"max_steps"``.
+        ``"plateau"``, ``"softening"``, ``"max_steps"`` or ``"no_convergence"`` (only with
+        ``on_failure="stop"``).
     wall_s : float
         Wall time [s].
     settings : dict
@@ -292,6 +305,8 @@ class StaticResult:
     n_steps: int
     n_iterations: int
     n_loose_steps: int
+    n_cascades: int
+    failure: str
     termination: str
     wall_s: float
     settings: dict = field(default_factory=dict)
@@ -475,6 +490,7 @@ class _Model:
         # control c = w . u: the live-load-weighted mean displacement [m]
         self.w = self.F_live / live_force
         self.state = np.zeros(m, dtype=np.int64)
+        self.linear = _LinearSolver()
 
     # -- supports -----------------------------------------------------------------------------
     def _check_supported(self):
@@ -561,6 +577,16 @@ class _Model:
             self.slip, self.spring_broken = trial[0].copy(), trial[1].copy()
         self.state = state.copy()
 
+    def commit_breaks(self, trial) -> bool:
+        """Keep only the tensile failures of a trial state; True if there are new ones."""
+        if self.settings.interface_model == "resultant":
+            new = trial[1] & ~self.broken
+            self.broken = self.broken | trial[1]
+        else:
+            new = trial[1] & ~self.spring_broken
+            self.spring_broken = self.spring_broken | trial[1]
+        return bool(new.any())
+
     def snapshot(self):
         if self.settings.interface_model == "resultant":
             return (self.qp.copy(), self.broken.copy(), self.state.copy())
@@ -593,10 +619,58 @@ class _Model:
 
 
 def _factor(A: sp.csc_matrix):
+    """Sparse LU (symmetric-mode ordering: the pattern of H^T D H is symmetric)."""
     try:
-        return spla.splu(A, permc_spec="COLAMD")
+        return spla.splu(
+            A,
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.01,
+            options={"SymmetricMode": True},
+        )
     except RuntimeError as exc:  # "Factor is exactly singular"
         return exc
+
+
+class _LinearSolver:
+    """Solves with the current tangent, reusing an older LU as a GMRES preconditioner.
+
+    Between two Newton iterations only the interfaces that change state change the tangent:
+    a low-rank update, which GMRES preconditioned with the previous factorisation resolves in
+    a few iterations. A new factorisation is made when GMRES does not reach ``rtol`` within
+    ``max_krylov`` iterations.
+    """
+
+    def __init__(self, rtol: float = 1e-10, max_krylov: int = 30):
+        self.lu = None
+        self.rtol = rtol
+        self.max_krylov = max_krylov
+        self.n_factor = 0
+        self.n_krylov = 0
+        self.n_tries = 0
+
+    def solve(self, A: sp.csc_matrix, rhs: np.ndarray):
+        # Krylov reuse pays only if it mostly succeeds: stop trying after many failures
+        useful = self.n_tries < 10 or self.n_krylov >= 0.5 * self.n_tries
+        if useful and self.lu is not None and self.lu.shape == A.shape:
+            self.n_tries += 1
+            lu = self.lu
+            M = spla.LinearOperator(A.shape, matvec=lu.solve, dtype=float)
+            x0 = lu.solve(rhs)
+            if np.all(np.isfinite(x0)):
+                x, info = spla.gmres(
+                    A, rhs, x0=x0, rtol=self.rtol, atol=0.0, restart=self.max_krylov,
+                    maxiter=1, M=M,
+                )
+                res = np.linalg.norm(A @ x - rhs)
+                if info == 0 and np.isfinite(res) and res <= 10 * self.rtol * np.linalg.norm(rhs):
+                    self.n_krylov += 1
+                    return x
+        lu = _factor(A)
+        if isinstance(lu, Exception):
+            return lu
+        self.lu = lu
+        self.n_factor += 1
+        return lu.solve(rhs)
 
 
 def _check_finite(model: _Model, f: np.ndarray, R: np.ndarray, lam: float):
@@ -682,18 +756,18 @@ def _newton(model, settings, u0, lam0, dead_target=None, dc=None, floor0=None, m
             return _Newton(True, u, lam, f, state, trial, n_iter - 1, R, floor)
         K = model.stiffness(D)
         if dc is None:
-            lu = _factor(K)
+            A = K
             rhs = R
         else:
-            lu = _factor(_bordered(K, model.F_live, model.w))
+            A = _bordered(K, model.F_live, model.w)
             rhs = np.concatenate([R, [c_target - model.w @ u]])
-        if isinstance(lu, Exception):
+        sol = model.linear.solve(A, rhs)
+        if isinstance(sol, Exception):
             if floor < 1.0:
                 floor = min(10.0 * floor, 1.0)
                 f, D, state, trial, R = residual(u, lam, floor)
                 continue
-            return _Newton(False, u, lam, f, state, trial, n_iter, R, floor, str(lu))
-        sol = lu.solve(rhs)
+            return _Newton(False, u, lam, f, state, trial, n_iter, R, floor, str(sol))
         if not np.all(np.isfinite(sol)):
             floor = min(10.0 * floor, 1.0)
             f, D, state, trial, R = residual(u, lam, floor)
@@ -831,9 +905,14 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     n_steps = 0
     floor = None
     n_loose = 0
+    n_cascades = 0
+    dc_cascade = dc0
+    failure = ""
     while n_steps < settings.max_steps:
         out = _newton(model, settings, u, lam, dc=dc, floor0=floor)
         if not out.converged:
+            if dc >= 0.5 * dc_cascade * (1 + 1e-12):
+                dc_cascade = dc
             dc *= 0.5
             if dc < settings.min_step_ratio * dc0:
                 if slope0 is not None and n_plateau > 0:
@@ -844,15 +923,27 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
                         lam,
                     )
                     break
+                if model.commit_breaks(out.trial):
+                    # brittle cascade (mortar cracking that snaps back): keep the cracks of
+                    # the failed trial, re-start from the last equilibrium; lambda drops
+                    n_cascades += 1
+                    logger.info("cracking cascade at lambda = %.6g: cracks kept", lam)
+                    dc = dc_cascade
+                    continue
                 blk, dof = model.block_of_dof(int(np.argmax(np.abs(out.residual))))
                 changing = np.flatnonzero(out.state != model.state)
-                raise StaticSolverError(
+                message = (
                     f"no convergence at lambda = {lam:.6g} after cutting the step to "
                     f"{dc:.3e} m (largest residual at block {blk} {dof}; {len(changing)} "
-                    f"interfaces changing state, e.g. {changing[:5].tolist()})",
-                    blocks=[blk],
-                    interfaces=changing[:10],
-                    lam=lam,
+                    f"interfaces changing state, e.g. {changing[:5].tolist()})"
+                )
+                if settings.on_failure == "stop" and n_steps > 0:
+                    logger.warning("%s: stopped, lambda_max is the last converged peak", message)
+                    termination = "no_convergence"
+                    failure = message
+                    break
+                raise StaticSolverError(
+                    message, blocks=[blk], interfaces=changing[:10], lam=lam
                 )
             continue
         u_new, lam_new, f, state, its = out.u, out.lam, out.f, out.state, out.iterations
@@ -930,6 +1021,8 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         n_steps=n_steps,
         n_iterations=n_iter,
         n_loose_steps=n_loose,
+        n_cascades=n_cascades,
+        failure=failure,
         termination=termination,
         wall_s=wall,
         settings=asdict(settings),

@@ -35,6 +35,7 @@ ORDUNA_BLOCK_MM = (81.0, 210.0, 70.0)  # a (height), b (length), s (thickness)
 ORDUNA_UNIT_WEIGHT = 20.0  # [kN/m^3]
 ORDUNA_MU = 0.7
 ORDUNA_COURSES = 13
+ORDUNA_RETURN_BLOCKS = 2  # our alternative: return walls of blocks, length in blocks (assumed)
 
 # --- Table 2: Restrepo-Velez, Magenes & Griffith (2014) ----------------------------------------
 RESTREPO_BLOCK_MM = (28.24, 79.78, 39.68)
@@ -43,6 +44,11 @@ RESTREPO_MU = 0.7
 RESTREPO_COURSES = 21
 RESTREPO_BEAM_FORCE_N = 16.46  # each of the eleven wooden beams on S32
 RESTREPO_RETURN_BLOCKS = 3  # assumed length of a return wall behind the corner, in blocks
+RESTREPO_S32_TOP = "restrained"
+"""S32: the wooden beams hold the top course out of plane (``uy`` restrained), assumed. With a
+free top the wall would overturn as a whole at ``lambda ~ s (W + P) / (W H) = 0.084``, far
+from both the seed's DEM (0.305) and the test (0.293), whose mechanism has a horizontal hinge
+between courses 15 and 16: that hinge needs a restrained top."""
 
 # --- Table 3: Chee Liang (1996) ----------------------------------------------------------------
 CHEE_LIANG_BRICK_MM = (36.0, 112.0, 53.0)  # a, b, s
@@ -124,7 +130,7 @@ class SeedSpecimen:
     def build(self, **kwargs) -> Scene:
         """The scene of this specimen (keyword arguments go to the builder)."""
         if self.builder == "orduna_panel":
-            return orduna_panel(self.args["n_per_course"])
+            return orduna_panel(self.args["n_per_course"], **kwargs)
         if self.builder == "restrepo_specimen":
             return restrepo_specimen(self.name, **kwargs)
         return chee_liang_specimen(self.name)
@@ -135,21 +141,24 @@ class SeedSpecimen:
 # ----------------------------------------------------------------------------------------------
 
 
-def orduna_panel(n_per_course: int | str = 3) -> Scene:
+def orduna_panel(n_per_course: int | str = 3, return_walls: str = "translations") -> Scene:
     """Orduna & Lourenco's dry-joint panels (seed 001, Sec. 3.1, Fig. 12, Table 1).
 
     Parameters
     ----------
     n_per_course : {3, 6} or {"3x13", "6x13"}
-        3: ``L = 0.630, H = 1.053`` m, translations of the left column fixed (case 1);
-        6: ``L = 1.260, H = 1.053`` m, translations of both lateral columns fixed (case 2).
+        3: ``L = 0.630, H = 1.053`` m, restrained on the left (case 1); 6: ``L = 1.260,
+        H = 1.053`` m, restrained on both sides (case 2).
+    return_walls : {"translations", "blocks"}
+        ``"translations"``: the seed's model, ``ux, uy, uz`` of the end block of every course
+        restrained, rotations free. ``"blocks"``: the restraint built as return walls of
+        blocks in corner bond, ``ORDUNA_RETURN_BLOCKS`` long (an alternative of ours, see
+        :mod:`dem.scenes.return_walls`).
 
     Returns
     -------
     Scene
-        13 courses on a fixed foundation; the end blocks of every course of the restrained
-        column(s) have ``ux, uy, uz`` restrained and free rotations, as the seed states; live
-        load: weight along +y.
+        13 courses on a fixed foundation; live load: weight along +y.
     """
     key = {"3x13": 3, "6x13": 6, 3: 3, 6: 6}.get(n_per_course)
     if key is None:
@@ -157,7 +166,26 @@ def orduna_panel(n_per_course: int | str = 3) -> Scene:
             f"orduna_panel takes 3 (3 x 13 panel, case 1) or 6 (6 x 13 panel, case 2), "
             f"got {n_per_course!r}"
         )
+    if return_walls not in ("translations", "blocks"):
+        raise ValueError(f"return_walls must be 'translations' or 'blocks', got {return_walls!r}")
     a, b, s = ORDUNA_BLOCK_MM
+    sides = ("left",) if key == 3 else ("left", "right")
+    name = f"orduna_{key}x{ORDUNA_COURSES}"
+    if return_walls == "blocks":
+        scene = wall_with_returns(
+            key,
+            ORDUNA_COURSES,
+            a,
+            b,
+            s,
+            ORDUNA_UNIT_WEIGHT,
+            ORDUNA_MU,
+            returns=sides,
+            return_blocks=ORDUNA_RETURN_BLOCKS,
+            name=name + "_blocks",
+        )
+        meta = dict(scene.meta, seed001="Table 1", return_walls="blocks")
+        return Scene(scene.assembly, scene.supports, scene.loads, scene.name, meta)
     scene = running_bond_wall(
         key,
         ORDUNA_COURSES,
@@ -168,9 +196,8 @@ def orduna_panel(n_per_course: int | str = 3) -> Scene:
         ORDUNA_MU,
         base=True,
         live="weight",
-        name=f"orduna_{key}x{ORDUNA_COURSES}",
+        name=name,
     )
-    sides = ("left",) if key == 3 else ("left", "right")
     restrained = scene.supports.restrained.copy()
     for i in _column_blocks(scene, sides):
         restrained[i, :3] = True
@@ -179,6 +206,7 @@ def orduna_panel(n_per_course: int | str = 3) -> Scene:
         seed001="Table 1",
         restrained_columns=list(sides),
         column_restraint="translations",
+        return_walls="translations",
     )
     return Scene(
         scene.assembly, Supports(scene.supports.fixed, restrained), scene.loads, scene.name, meta
@@ -271,6 +299,7 @@ def restrepo_specimen(name: str, return_walls: str = "fixed_column") -> Scene:
     tag = f"restrepo_{name}_{return_walls}"
     if supports == "base+beams":
         beams = [((i + 0.5) * n * b / 11, RESTREPO_BEAM_FORCE_N * 1e-3) for i in range(11)]
+        # The beams also hold the top course out of plane (assumed, see RESTREPO_S32_TOP)
         scene = running_bond_wall(
             n,
             RESTREPO_COURSES,
@@ -279,6 +308,7 @@ def restrepo_specimen(name: str, return_walls: str = "fixed_column") -> Scene:
             s,
             base=True,
             beam_loads_kn=beams,
+            simply_supported=("top",) if RESTREPO_S32_TOP == "restrained" else (),
             live="weight",
             name=f"restrepo_{name}",
             **common,
@@ -420,7 +450,9 @@ def _specimens() -> dict[str, SeedSpecimen]:
         assumptions = {
             "left": "one return wall on the left",
             "both": "return walls on both ends",
-            "base+beams": "no return wall; beams evenly spaced at (i + 1/2) L / 11 on the top",
+            "base+beams": "no return wall; beams evenly spaced at (i + 1/2) L / 11 on the top; "
+            "the beams restrain the top course out of plane (assumed: with a free top the "
+            "wall overturns at 0.084)",
             "both+openings": "return walls on both ends; openings 3 blocks wide, courses 7-13 "
             "(assumed), central pier " + ("4" if name == "S23" else "2") + " blocks",
         }[sup]
