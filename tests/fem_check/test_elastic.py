@@ -64,7 +64,7 @@ def test_patch_uniform_compression_is_exact(degree, mesh_order):
 def _integrals(sol):
     """int u dV and int (x - c) x u dV by the displacement basis quadrature (world frame)."""
     op = sol.operator
-    u = op.basis.interpolate(sol.u).value  # (3, n_tets, n_qp), reference frame
+    u = np.asarray(op.basis.interpolate(sol.u))  # (3, n_tets, n_qp), reference frame
     x = op.basis.mapping.F(op.basis.quadrature[0])  # (3, n_tets, n_qp)
     r = x - op.reference.centroid[:, None, None]
     dx = op.basis.dx
