@@ -879,8 +879,10 @@ def _to_reference(model: ExplicitModel, blocks: np.ndarray, points: np.ndarray) 
 def export_peak_state(model: ExplicitModel, sphere: tuple) -> dict:
     """Every nodal force at the model's current state, on both sides, for FEM post-processing.
 
-    All per-block vectors are given in that block's *reference* frame (the frame of
-    ``block_vertices``): a world vector ``v`` of block ``i`` is exported as ``R_i^T v``.
+    Points are given in the reference configuration of their block (the frame of
+    ``block_vertices``); vectors (forces, gravity, accelerations, angular velocities) in the
+    world frame; ``quaternion`` maps each block's reference frame to the world,
+    ``v_world = R v_ref`` (``fem_check.loads.read_point_state`` reads this layout).
 
     Returns
     -------
@@ -888,16 +890,16 @@ def export_peak_state(model: ExplicitModel, sphere: tuple) -> dict:
         ``block`` (k,) int64; ``point`` (k, 3) [m], reference configuration of that block;
         ``force`` (k, 3) [N] acting on that block at that point (each block-block node force
         appears twice, once per side, plus the indenter's nodal forces; support reactions are
-        not included); ``gravity`` (3,) [m/s^2] in the world frame and ``gravity_ref``
-        (n_blocks, 3) the same in each block's reference frame; ``acceleration``
-        (n_blocks, 6) the linear [m/s^2] and angular [rad/s^2] accelerations of the centroid
-        and ``angular_velocity`` (n_blocks, 3) [rad/s], reference frame, such that with the
-        true mass and inertia (``density``) ``sum force + m gravity_ref = m a`` and
-        ``sum (point - C0) x force = I alpha + omega x I omega`` for every free block (zero for
-        fixed blocks; ``a`` includes what global damping and mass scaling add to the motion);
-        ``fixed`` (n_blocks,) bool; ``density`` (n_blocks,) [kg/m^3]; ``block_vertices``
-        (n_vert, 3) [m] with ``vert_ptr`` (n_blocks + 1,); ``centroid`` (n_blocks, 3) [m],
-        reference centroids.
+        not included); ``gravity`` (3,) [m/s^2]; ``acceleration`` (n_blocks, 6) linear
+        [m/s^2] and angular [rad/s^2] accelerations of the centroids and
+        ``angular_velocity`` (n_blocks, 3) [rad/s], such that with the true mass and inertia
+        (``density``), in each block's reference frame, ``sum R^T force + m R^T gravity =
+        m R^T a`` and ``sum (point - C0) x R^T force = I alpha' + omega' x I omega'``
+        (primes: ``R^T`` times the world vectors) for every free block (zero for fixed blocks;
+        ``a`` includes what global damping and mass scaling add to the motion);
+        ``quaternion`` (n_blocks, 4) scalar first; ``fixed`` (n_blocks,) bool; ``density``
+        (n_blocks,) [kg/m^3]; ``block_vertices`` (n_vert, 3) [m] with ``vert_ptr``
+        (n_blocks + 1,); ``centroid`` (n_blocks, 3) [m], reference centroids.
     """
     force, torque, ef, ep, ind = model.contact_wrenches(sphere)
     a_blk = model.node_block[model.pair_node]
@@ -915,29 +917,28 @@ def export_peak_state(model: ExplicitModel, sphere: tuple) -> dict:
         forces = np.concatenate([forces, ind[act_i]])
     ref_points = _to_reference(model, blocks, points)
     rot = model.rot.copy()
-    ref_forces = np.einsum("mji,mj->mi", rot[blocks], forces)
     asm = model.scene.assembly
     gravity = np.asarray(model.scene.loads.gravity, dtype=float)
     acc = np.zeros((model.n_blocks, 6))
-    omega_ref = np.zeros((model.n_blocks, 3))
+    omega = np.zeros((model.n_blocks, 3))
     for i in model.free_blocks:
         r = rot[i]
         m = model.mass_true[i]
-        acc[i, :3] = r.T @ (force[i] + model.ext_force[i]) / m
-        inertia = model.inertia_true[i]
-        w = r.T @ model.omega[i]
-        moment = r.T @ (torque[i] + model.ext_torque[i])
-        acc[i, 3:] = np.linalg.solve(inertia, moment - np.cross(w, inertia @ w))
-        omega_ref[i] = w
+        acc[i, :3] = (force[i] + model.ext_force[i]) / m
+        iw = r @ model.inertia_true[i] @ r.T
+        w = model.omega[i]
+        moment = torque[i] + model.ext_torque[i]
+        acc[i, 3:] = np.linalg.solve(iw, moment - np.cross(w, iw @ w))
+        omega[i] = w
     arrays = asm.arrays
     return {
         "block": blocks.astype(np.int64),
         "point": ref_points,
-        "force": ref_forces,
+        "force": forces,
         "gravity": gravity,
-        "gravity_ref": np.einsum("nji,j->ni", rot, gravity),
         "acceleration": acc,
-        "angular_velocity": omega_ref,
+        "angular_velocity": omega,
+        "quaternion": model.quat.copy(),
         "fixed": model.fixed.copy(),
         "density": asm.density.copy(),
         "block_vertices": arrays.vertices.copy(),
