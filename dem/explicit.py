@@ -1142,14 +1142,16 @@ class _RunState:
         self.entries.append(int(np.count_nonzero(model.out_depth > 0)))
 
     def below_since(self, ind: IndentationSettings) -> bool:
-        """Cheap pre-test: the last ``out_confirm`` of travel all below the fraction."""
+        """Cheap pre-test: the loads over the last ``out_confirm`` of travel (and the record
+        just before it) are all below the ultimate fraction of the peak."""
         if len(self.load) < 2 or self.best_load <= 0:
             return False
         d = np.asarray(self.delta)
-        window = d >= d[-1] - ind.out_confirm
-        if d[-1] - d[window][0] < ind.out_confirm * 0.999:
+        first = int(np.searchsorted(d, d[-1] - ind.out_confirm, side="left"))
+        if first < 1:
             return False
-        return bool(np.all(np.asarray(self.load)[window] <= ind.ultimate_fraction * self.best_load))
+        tail = np.asarray(self.load[first - 1 :])
+        return bool(np.all(tail <= ind.ultimate_fraction * self.best_load))
 
     def save(self, path: Path, model: ExplicitModel) -> None:
         data = {name: getattr(model, name) for name in _STATE_ARRAYS}

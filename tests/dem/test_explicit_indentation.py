@@ -99,3 +99,23 @@ def test_peak_state_is_balanced():
     assert ps["point"].shape == ps["force"].shape and ps["block"].dtype == np.int64
     assert len(ps["vert_ptr"]) == n + 1
     np.testing.assert_array_equal(ps["fixed"], scene.supports.fixed)
+
+
+def test_run_stops_once_block_is_out():
+    """Feeding the triangular curve record by record: the stop test fires one confirmation
+    length after the closed-form ultimate deflection, and the summary then finds it."""
+    from dem.explicit import _RunState
+
+    ind = IndentationSettings(ultimate_fraction=0.05, out_confirm=0.5)
+    delta = np.linspace(0.001, 4.0, 4000)
+    load = np.where(delta <= 1.0, 100 * delta, np.maximum(0.0, 100 * (2.0 - delta)))
+    st = _RunState(key="test")
+    for d, p in zip(delta, load, strict=True):
+        st.delta.append(d)
+        st.load.append(p)
+        st.best_load = max(st.best_load, p)
+        if st.below_since(ind):
+            break
+    np.testing.assert_allclose(st.delta[-1], 1.95 + 0.5, atol=2e-3)
+    s = curve_summary(np.array(st.delta), np.array(st.load), 0.05, 0.5)
+    np.testing.assert_allclose(s["ultimate_deflection"], 1.95, atol=2e-3)
