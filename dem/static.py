@@ -658,8 +658,14 @@ class _LinearSolver:
             x0 = lu.solve(rhs)
             if np.all(np.isfinite(x0)):
                 x, info = spla.gmres(
-                    A, rhs, x0=x0, rtol=self.rtol, atol=0.0, restart=self.max_krylov,
-                    maxiter=1, M=M,
+                    A,
+                    rhs,
+                    x0=x0,
+                    rtol=self.rtol,
+                    atol=0.0,
+                    restart=self.max_krylov,
+                    maxiter=1,
+                    M=M,
                 )
                 res = np.linalg.norm(A @ x - rhs)
                 if info == 0 and np.isfinite(res) and res <= 10 * self.rtol * np.linalg.norm(rhs):
@@ -915,7 +921,9 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
                 dc_cascade = dc
             dc *= 0.5
             if dc < settings.min_step_ratio * dc0:
-                if slope0 is not None and n_plateau > 0:
+                # the smallest step fails: that is the collapse only if the path was already
+                # on the plateau for a while (else report the failure, not a false peak)
+                if slope0 is not None and n_plateau >= max(1, settings.plateau_steps // 2):
                     termination = "plateau"
                     logger.warning(
                         "step cut below the minimum on the plateau at lambda = %.6g: "
@@ -942,9 +950,7 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
                     termination = "no_convergence"
                     failure = message
                     break
-                raise StaticSolverError(
-                    message, blocks=[blk], interfaces=changing[:10], lam=lam
-                )
+                raise StaticSolverError(message, blocks=[blk], interfaces=changing[:10], lam=lam)
             continue
         u_new, lam_new, f, state, its = out.u, out.lam, out.f, out.state, out.iterations
         floor = out.floor

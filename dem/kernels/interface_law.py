@@ -16,10 +16,12 @@ The law, elastic-perfectly plastic with the seed's interactions:
   ``(|M3| / M_{3u})^\alpha + (V_1^2 + V_2^2) / V_u^2 <= 1`` with ``V_u = c + \mu (-N)``
   (``c = \mu f_t`` in the seed) and ``M_{3u} = c_T V_u``, ``c_T`` the mean distance to the
   centroid of the compressed rectangle reduced by the eccentricities ``M/(f_t - N)``
-  (Orduna & Lourenco's uniform-stress hypothesis, seed Fig. 10). A trial point outside is
-  scaled radially back onto the surface; ``alpha`` blends the three columns of seed Table A1
+  (Orduna & Lourenco's uniform-stress hypothesis, seed Fig. 10). The return puts the shear on
+  the Coulomb circle first and then caps the torsion at what the shear leaves,
+  ``M_{3u} (1 - V^2/V_u^2)^{1/\alpha}``: unlike a radial return it stays continuous when
+  ``M_{3u} -> 0`` (a hinge on an edge keeps its friction); ``alpha`` is taken from Table A1
   at the interface's aspect ratio (seed Table A1, column ``f1 = f2``, the intermediate value the
-seed recommends for a single exponent).
+  seed recommends for a single exponent).
 
 The normal response has no plastic part (a gap); plastic rotations and slips are kept in
 ``q_p``. The tangent ``D = df/dq`` keeps the dependence of the rocking and friction limits on
@@ -56,25 +58,6 @@ def torsion_coefficient(l1, l2):
     t1 = l1 * l1 / (2.0 * l2) * math.log((l2 + d) / l1)
     t2 = l2 * l2 / (2.0 * l1) * math.log((l1 + d) / l2)
     return (d + t1 + t2) / 6.0
-
-
-@njit(cache=True)
-def _surface_scale(a, b, alpha):
-    """Root ``s`` in (0, 1] of ``(s a)^alpha + s^2 b = 1`` (Newton from the right, convex)."""
-    s = 1.0
-    for _ in range(60):
-        ga = (s * a) ** alpha if a > 0.0 else 0.0
-        g = ga + s * s * b - 1.0
-        if abs(g) < 1e-13:
-            break
-        dg = (alpha * ga / s if a > 0.0 else 0.0) + 2.0 * s * b
-        if dg <= 0.0:
-            break
-        s_new = s - g / dg
-        if s_new <= 0.0:
-            s_new = 0.5 * s
-        s = s_new
-    return s
 
 
 @njit(cache=True)
@@ -192,67 +175,73 @@ def resultant_law_one(
         r2 = 0.0
     c_t = torsion_coefficient(r1, r2)
     m_u = c_t * v_u
-    torsion_free = m_u <= 0.0
-    if torsion_free:
-        # no torsion capacity left (a corner hinge): torsion is free
-        a = 0.0
-        if m3 != 0.0:
-            state |= STATE_SHEAR
-        m3 = 0.0
-    else:
-        a = abs(m3) / m_u
-    b = (v1 * v1 + v2 * v2) / (v_u * v_u)
-    value = (a**alpha if a > 0.0 else 0.0) + b
-    if value <= 1.0:
-        out_f[1] = v1
-        out_f[2] = v2
-        out_f[5] = m3
-        for i in (1, 2, 5):
-            out_qp[i] = qp[i]
-            out_D[i, i] = k[i]
-        if torsion_free:
-            out_qp[5] = q[5]
-            out_D[5, 5] = floor * k[5]
+    # shear first, then torsion (Eq. 14 / A5 read as the torsion left by the shear):
+    # V on the Coulomb circle if the trial exceeds it, then |M3| <= M_u (1 - |V|^2/V_u^2)^(1/alpha).
+    # Continuous as M_u -> 0 (a hinge on an edge keeps its friction, loses its torsion).
+    vt = math.sqrt(v1 * v1 + v2 * v2)
+    dvu0 = -mu * k[0]  # d V_u / d dn
+    sliding = vt > v_u
+    if sliding:
+        n1 = v1 / vt
+        n2 = v2 / vt
+        ratio = v_u / vt
+        out_f[1] = v_u * n1
+        out_f[2] = v_u * n2
+        # d V / d q: (V_u/|v|)(I - n n^T) k_t on the tangential motions, n dV_u/d dn
+        out_D[1, 1] = ratio * (1.0 - n1 * n1) * k[1] + floor * k[1]
+        out_D[1, 2] = -ratio * n1 * n2 * k[2]
+        out_D[2, 1] = -ratio * n1 * n2 * k[1]
+        out_D[2, 2] = ratio * (1.0 - n2 * n2) * k[2] + floor * k[2]
+        out_D[1, 0] = n1 * dvu0
+        out_D[2, 0] = n2 * dvu0
+        out_qp[1] = q[1] - out_f[1] / k[1]
+        out_qp[2] = q[2] - out_f[2] / k[2]
+        state |= STATE_SHEAR
+        out_f[5] = 0.0
+        out_qp[5] = q[5]
+        out_D[5, 5] = floor * k[5]
         return is_broken, state
-    s = _surface_scale(a, b, alpha)
-    out_f[1] = s * v1
-    out_f[2] = s * v2
-    out_f[5] = s * m3
-    for i in (1, 2, 5):
-        out_qp[i] = q[i] - out_f[i] / k[i]
-    # Consistent tangent of the radial return f = s t on F(f; V_u, M_u) = 1:
-    # dF = g . (t ds + s dt) + F_V dV_u + F_M dM_u = 0, with g = dF/df at f.
-    t0, t1, t2 = v1, v2, m3
-    g0 = 2.0 * out_f[1] / (v_u * v_u)
-    g1 = 2.0 * out_f[2] / (v_u * v_u)
-    g2 = 0.0
-    f_m = 0.0
-    if not torsion_free and out_f[5] != 0.0:
-        ratio = abs(out_f[5]) / m_u
-        g2 = alpha * ratio ** (alpha - 1.0) / m_u
-        if out_f[5] < 0.0:
-            g2 = -g2
-        f_m = -alpha * ratio**alpha / m_u
-    f_v = -2.0 * (out_f[1] ** 2 + out_f[2] ** 2) / (v_u**3)
-    gt = g0 * t0 + g1 * t1 + g2 * t2
-    # derivatives of V_u and M_u along q (row vectors)
-    dvu = np.zeros(6)
-    dvu[0] = -mu * k[0]
+    out_f[1] = v1
+    out_f[2] = v2
+    out_qp[1] = qp[1]
+    out_qp[2] = qp[2]
+    out_D[1, 1] = k[1]
+    out_D[2, 2] = k[2]
+    b = (v1 * v1 + v2 * v2) / (v_u * v_u)
+    left = (1.0 - b) ** (1.0 / alpha) if b < 1.0 else 0.0
+    m_max = m_u * left
+    if abs(m3) <= m_max:
+        out_f[5] = m3
+        out_qp[5] = qp[5]
+        out_D[5, 5] = k[5]
+        return is_broken, state
+    sg = 1.0 if m3 >= 0.0 else -1.0
+    out_f[5] = sg * m_max
+    out_qp[5] = q[5] - out_f[5] / k[5]
+    out_D[5, 5] = floor * k[5]
+    state |= STATE_SHEAR
+    if m_max <= 0.0:
+        return is_broken, state
+    # tangent of M3 = sg M_u(q) (1 - b(q))^(1/alpha)
+    dleft_db = -(1.0 / alpha) * (1.0 - b) ** (1.0 / alpha - 1.0)
+    # b = |V|^2 / V_u^2 with V elastic
+    db = np.zeros(6)
+    db[1] = 2.0 * v1 * k[1] / (v_u * v_u)
+    db[2] = 2.0 * v2 * k[2] / (v_u * v_u)
+    db[0] = -2.0 * (v1 * v1 + v2 * v2) / (v_u**3) * dvu0
+    # M_u = c_T(e1, e2) V_u
     dmu = np.zeros(6)
-    for j in range(6):
-        dmu[j] = c_t * dvu[j]
-    if not torsion_free and cap > 0.0:
+    dmu[0] = c_t * dvu0
+    if cap > 0.0:
         h = 1e-6 * (dims[0] + dims[1])
         dc1 = 0.0
         dc2 = 0.0
         if r1 > 0.0:
-            dc1 = (torsion_coefficient(r1 + h, r2) - torsion_coefficient(max(r1 - h, 0.0), r2)) / (
-                r1 + h - max(r1 - h, 0.0)
-            )
+            lo1 = max(r1 - h, 0.0)
+            dc1 = (torsion_coefficient(r1 + h, r2) - torsion_coefficient(lo1, r2)) / (r1 + h - lo1)
         if r2 > 0.0:
-            dc2 = (torsion_coefficient(r1, r2 + h) - torsion_coefficient(r1, max(r2 - h, 0.0))) / (
-                r2 + h - max(r2 - h, 0.0)
-            )
+            lo2 = max(r2 - h, 0.0)
+            dc2 = (torsion_coefficient(r1, r2 + h) - torsion_coefficient(r1, lo2)) / (r2 + h - lo2)
         sg4 = 1.0 if out_f[4] >= 0.0 else -1.0
         sg3 = 1.0 if out_f[3] >= 0.0 else -1.0
         for j in range(6):
@@ -264,29 +253,13 @@ def resultant_law_one(
                 de2 += abs(out_f[3]) * k[0] / (cap * cap)
             dct = 0.0
             if r1 > 0.0:
-                dct += dc1 * (-2.0 * de1)
+                dct -= 2.0 * dc1 * de1
             if r2 > 0.0:
-                dct += dc2 * (-2.0 * de2)
+                dct -= 2.0 * dc2 * de2
             dmu[j] += v_u * dct
-    idx = (1, 2, 5)
-    tv = (t0, t1, t2)
     for j in range(6):
-        # ds/dq_j
-        dt_j = np.zeros(3)
-        for r in range(3):
-            if idx[r] == j:
-                dt_j[r] = k[j]
-        num = s * (g0 * dt_j[0] + g1 * dt_j[1] + g2 * dt_j[2]) + f_v * dvu[j] + f_m * dmu[j]
-        ds = -num / gt if gt > 0.0 else 0.0
-        for r in range(3):
-            out_D[idx[r], j] = s * dt_j[r] + tv[r] * ds
-    for r in range(3):
-        out_D[idx[r], idx[r]] += floor * k[idx[r]]
-    if torsion_free:
-        for j in range(6):
-            out_D[5, j] = 0.0
-        out_D[5, 5] = floor * k[5]
-    return is_broken, state | STATE_SHEAR
+        out_D[5, j] += sg * (left * dmu[j] + m_u * dleft_db * db[j])
+    return is_broken, state
 
 
 @njit(cache=True)

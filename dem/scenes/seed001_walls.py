@@ -264,7 +264,9 @@ _RESTREPO = {
 RESTREPO_NAMES = tuple(_RESTREPO)
 
 
-def restrepo_specimen(name: str, return_walls: str = "fixed_column") -> Scene:
+def restrepo_specimen(
+    name: str, return_walls: str = "fixed_column", return_blocks: int = RESTREPO_RETURN_BLOCKS
+) -> Scene:
     """A Restrepo-Velez et al. (2014) dry-stone specimen (seed 001, Sec. 3.2, Table 2).
 
     Parameters
@@ -279,6 +281,9 @@ def restrepo_specimen(name: str, return_walls: str = "fixed_column") -> Scene:
         every course fixed. ``"blocks"``: the return walls built as blocks in corner bond
         (:func:`dem.scenes.return_walls.wall_with_returns`), ``RESTREPO_RETURN_BLOCKS`` long.
         Ignored for S32.
+    return_blocks : int
+        Length of each return wall built as blocks, in blocks behind the wall (assumed; the
+        seed gives none).
 
     Returns
     -------
@@ -337,7 +342,7 @@ def restrepo_specimen(name: str, return_walls: str = "fixed_column") -> Scene:
             b,
             s,
             returns=sides,
-            return_blocks=RESTREPO_RETURN_BLOCKS,
+            return_blocks=return_blocks,
             openings_mm=openings,
             name=tag,
             **common,
