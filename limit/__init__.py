@@ -3,7 +3,7 @@
 from limit.errors import LimitAnalysisError
 from limit.estimates import Bounds, bounds_and_estimates, iterative_estimate
 from limit.problems import LimitSettings, build_static_problem
-from limit.solve import LimitResult, limit_analysis, solve_static
+from limit.solve import LimitResult, kinematic_analysis, limit_analysis, solve_static
 
 __all__ = [
     "Bounds",
@@ -13,6 +13,7 @@ __all__ = [
     "bounds_and_estimates",
     "build_static_problem",
     "iterative_estimate",
+    "kinematic_analysis",
     "limit_analysis",
     "solve_static",
 ]
