@@ -599,9 +599,48 @@ class _Model:
             self.slip, self.spring_broken = snap[0].copy(), snap[1].copy()
         self.state = snap[2].copy()
 
-    def stiffness(self, D: np.ndarray) -> sp.csc_matrix:
-        rows, cols, vals = stiffness_triplets(self.B, D, self.a, self.b, self.dof_index)
-        return sp.csc_matrix((vals, (rows, cols)), shape=(self.n_free, self.n_free))
+    def _pattern(self, bordered: bool):
+        """CSC structure of K (or of the bordered matrix) and the slot of every triplet.
+
+        The triplets of ``H^T D H`` keep their order and positions between iterations (only
+        the values change), so the sparse structure is built once and each assembly is a
+        ``bincount`` of the values into it.
+        """
+        key = "bordered" if bordered else "plain"
+        cache = self.__dict__.setdefault("_patterns", {})
+        if key in cache:
+            return cache[key]
+        n = self.n_free
+        rows, cols, _ = stiffness_triplets(
+            self.B, np.ones((self.m, 6, 6)), self.a, self.b, self.dof_index
+        )
+        size = n
+        extra_rows = np.zeros(0, dtype=np.int64)
+        extra_cols = np.zeros(0, dtype=np.int64)
+        extra_vals = np.zeros(0)
+        if bordered:
+            size = n + 1
+            nz_f = np.flatnonzero(self.F_live)
+            nz_w = np.flatnonzero(self.w)
+            extra_rows = np.concatenate([nz_f, np.full(len(nz_w), n)])
+            extra_cols = np.concatenate([np.full(len(nz_f), n), nz_w])
+            extra_vals = np.concatenate([-self.F_live[nz_f], self.w[nz_w]])
+        all_rows = np.concatenate([rows, extra_rows])
+        all_cols = np.concatenate([cols, extra_cols])
+        keys, inverse = np.unique(all_cols * size + all_rows, return_inverse=True)
+        indices = (keys % size).astype(np.int32)
+        indptr = np.searchsorted(keys // size, np.arange(size + 1)).astype(np.int32)
+        n_trip = len(rows)
+        const = np.bincount(inverse[n_trip:], weights=extra_vals, minlength=len(keys))
+        cache[key] = (size, indices, indptr, inverse[:n_trip], const, len(keys))
+        return cache[key]
+
+    def stiffness(self, D: np.ndarray, bordered: bool = False) -> sp.csc_matrix:
+        """``K = H^T D H`` on the unknowns, or the bordered matrix ``[[K, -F_L], [w^T, 0]]``."""
+        size, indices, indptr, inverse, const, nnz = self._pattern(bordered)
+        _, _, vals = stiffness_triplets(self.B, D, self.a, self.b, self.dof_index)
+        data = np.bincount(inverse, weights=vals, minlength=nnz) + const
+        return sp.csc_matrix((data, indices, indptr), shape=(size, size))
 
     def full(self, u_free: np.ndarray) -> np.ndarray:
         U = np.zeros((self.n_blocks, 6))
@@ -760,12 +799,11 @@ def _newton(model, settings, u0, lam0, dead_target=None, dc=None, floor0=None, m
         tol = settings.tolerance * (ref + abs(lam) * fl)
         if not first and r_norm <= tol:
             return _Newton(True, u, lam, f, state, trial, n_iter - 1, R, floor)
-        K = model.stiffness(D)
         if dc is None:
-            A = K
+            A = model.stiffness(D)
             rhs = R
         else:
-            A = _bordered(K, model.F_live, model.w)
+            A = model.stiffness(D, bordered=True)
             rhs = np.concatenate([R, [c_target - model.w @ u]])
         sol = model.linear.solve(A, rhs)
         if isinstance(sol, Exception):
@@ -794,8 +832,8 @@ def _newton(model, settings, u0, lam0, dead_target=None, dc=None, floor0=None, m
                 if best is None or r_norm < best[0]:
                     best = (r_norm, u, lam, f, state, trial, R)
             if floor > floor_min:
+                # the lower floor takes effect at the next evaluation (saves one evaluation)
                 floor = max(0.1 * floor, floor_min)
-                f, D, state, trial, R = residual(u, lam, floor)
         else:
             floor = min(10.0 * floor, 1.0)
             f, D, state, trial, R = residual(u, lam, floor)
