@@ -20,7 +20,7 @@ import time
 
 from dem.scenes.running_bond_wall import running_bond_wall
 from dem.scenes.seed001_walls import SPECIMENS, restrepo_specimen
-from dem.static import StaticSettings, _bordered, _factor, _Model, _newton_dead, solve_collapse
+from dem.static import StaticSettings, _factor, _Model, _newton_dead, solve_collapse
 
 TARGET_S = 10.0
 
@@ -67,9 +67,9 @@ def scaling(sizes, collapse_max: int) -> None:
             start = time.perf_counter()
             for _ in range(reps):
                 _, D, _, _, _ = m.evaluate(m.full(u))
-                K = m.stiffness(D)
+                m.stiffness(D)
             law = (time.perf_counter() - start) / reps
-            A = _bordered(K, m.F_live, m.w)
+            A = m.stiffness(D, bordered=True)
             start = time.perf_counter()
             for _ in range(reps):
                 _factor(A)
