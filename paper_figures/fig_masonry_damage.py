@@ -75,7 +75,7 @@ def _render(npz: Path, out: Path) -> None:
         plotter.add_mesh(mesh, color=colour, label=label)
     plotter.add_legend(size=(0.18, 0.18))
     plotter.add_text("interface states at collapse", font_size=9)
-    plotter.view_vector((0.0, -1.0, 0.15))
+    plotter.view_vector((0.35, -1.0, 0.8))
     plotter.screenshot(str(out))
     plotter.close()
 
