@@ -125,6 +125,7 @@ class LimitSettings:
     max_iter: int = 400
     cert_tol: float = 1e-6
     clarabel: dict = field(default_factory=lambda: {"direct_solve_method": "qdldl"})
+    torsion_bending: bool = False
 
     def __post_init__(self) -> None:
         if self.interface_model not in MODELS:
@@ -412,6 +413,10 @@ def build_static_problem(
                 cons.append(cp.SOC(u + w, cp.vstack([2 * v1, 2 * v2, u - w]), axis=0))
             else:
                 cons.append(cp.SOC(u + w, cp.vstack([2 * rr, u - w]), axis=0))
+        if settings.torsion_bending:
+            if friction != "coulomb":
+                raise ValueError("torsion_bending is available for the associated problem only")
+            _bending_torsion(cons, interfaces, length, c_hat, m1, m2, m3, mu_par)
         if settings.compressive_strength is not None:
             _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1, m2)
 
@@ -444,6 +449,38 @@ def build_static_problem(
         c_t=c_t,
         extra=extra,
     )
+
+
+def _rectangle_ct(l1: np.ndarray, l2: np.ndarray) -> np.ndarray:
+    """Mean distance to the centre of ``l1 x l2`` rectangles [m] (closed form)."""
+    d = np.hypot(l1, l2)
+    return (
+        d + l1**2 / (2 * l2) * np.log((l2 + d) / l1) + l2**2 / (2 * l1) * np.log((l1 + d) / l2)
+    ) / 6
+
+
+def _bending_torsion(cons, interfaces, length, c_hat, m1_hat, m2_hat, m3_hat, mu_par):
+    """Append the tangent-plane torsion bound of ``torsion_bending`` (scaled units)."""
+    sides, rot = interface_rectangles(interfaces)
+    m = interfaces.n_interfaces
+    lu, lv = sides[:, 0], sides[:, 1]
+    h_u, h_v = 1e-6 * lu, 1e-6 * lv
+    d_u = (_rectangle_ct(lu + h_u, lv) - _rectangle_ct(lu - h_u, lv)) / (2 * h_u)
+    d_v = (_rectangle_ct(lu, lv + h_v) - _rectangle_ct(lu, lv - h_v)) / (2 * h_v)
+    ct_hat = _rectangle_ct(lu, lv) / length
+    ceu = cp.multiply(rot[:, 0, 0], m2_hat) - cp.multiply(rot[:, 0, 1], m1_hat)
+    cev = cp.multiply(rot[:, 1, 0], m2_hat) - cp.multiply(rot[:, 1, 1], m1_hat)
+    a_u = cp.Variable(m, name="abs_ceu")
+    a_v = cp.Variable(m, name="abs_cev")
+    cap = cp.multiply(ct_hat, c_hat) - 2 * cp.multiply(d_u, a_u) - 2 * cp.multiply(d_v, a_v)
+    cons += [
+        a_u >= ceu,
+        a_u >= -ceu,
+        a_v >= cev,
+        a_v >= -cev,
+        m3_hat <= cp.multiply(mu_par, cap),
+        -m3_hat <= cp.multiply(mu_par, cap),
+    ]
 
 
 def _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1_hat, m2_hat):

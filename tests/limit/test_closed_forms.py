@@ -140,3 +140,31 @@ def test_validation_case_closed_forms_quick():
     assert len(rows) >= 20 and notes
     for row in rows:
         assert row.rel_error is not None and row.rel_error < 1e-6, row.quantity
+
+
+def test_torsion_bending_is_below_the_reduced_rectangle():
+    """Resultant model with ``torsion_bending``: under an eccentric normal force (e along
+    t1) the torsion capacity stays below the uniform-stress capacity of the reduced rectangle
+    mu c c_T(l1 - 2|e|, l2) (seed 001 Fig. 10, Orduna & Lourenco 2005a) and equals it at
+    e = 0 (the tangent plane touches there)."""
+    from tests.limit._scenes import torsion_pair
+
+    def c_t(l1, l2):
+        d = np.hypot(l1, l2)
+        return (
+            d + l1**2 / (2 * l2) * np.log((l2 + d) / l1) + l2**2 / (2 * l1) * np.log((l1 + d) / l2)
+        ) / 6
+
+    scene = torsion_pair()
+    c = 240.0
+    for ecc in (0.0, 0.05):
+        dead = np.zeros((2, 6))
+        dead[1, 4] = c * ecc  # a couple about y moves the centre of pressure along x
+        sc = scene.with_loads(dead=dead)
+        s = LimitSettings(interface_model="resultant", torsion="independent", torsion_bending=True)
+        lam = limit_analysis(sc, s).lam
+        reduced = 0.7 * c * c_t(0.3 - 2 * ecc, 0.2)
+        if ecc == 0.0:
+            np.testing.assert_allclose(lam, reduced, rtol=1e-6)
+        else:
+            assert 0.7 * reduced < lam < reduced

@@ -37,15 +37,19 @@ KPA = 1e3
 
 
 RESULTANT_NOTE = (
-    "The two interface models differ by more than friction: the uniform-pressure resultant "
-    "model (the DEM's law, seed 001 Eq. 9-14) lets a joint carry the full torsion "
-    "c_T mu c at any eccentricity of the normal force, while with the exact rigid joint "
-    "(vertex model) a joint rocking about an edge can only twist through the friction of "
-    "that edge. Where rocking joints must also twist (walls held at a side), the resultant "
-    "upper bound is above the vertex one (e.g. Restrepo S11: 0.278 vs 0.173): the resultant "
-    "model is not a safe approximation of the rigid joint, only the matching bound for the "
-    "DEM's resultant law (which reduces torsion with bending, so its admissible set lies "
-    "inside ours)."
+    "The two interface models differ by more than the torsion law. The uniform-pressure "
+    "resultant model (the DEM's law, seed 001 Eq. 9-14) bounds the torsion M3 about the "
+    "interface centroid. With an eccentric normal force the friction resultant acts at the "
+    "centre of pressure e, so a shear V carries the torque e x V about the centroid by itself; "
+    "the exact rigid joint (vertex model) has this coupling, the resultant model does not, and "
+    "the coupling is bilinear (M3 - (M1 V1 + M2 V2)/c), so no convex resultant law can carry "
+    "it exactly. Where rocking bed joints also slide (walls held at a side), the resultant "
+    "upper bound is therefore above the vertex one (Restrepo S11: 0.278 vs 0.173; in the S11 "
+    "resultant solution 506 of 733 joints lie outside the exact set, mostly bed joints "
+    "rocking near an edge with |V| = 0.7-0.9 mu c and almost no M3). Reducing the torsion "
+    "with bending (`torsion_bending`, tangent-plane bound) does not change this (0.2778). The "
+    "resultant model is thus not a safe approximation of the rigid joint; it is the matching "
+    "bound for the DEM's resultant law, whose admissible set lies inside ours."
 )
 
 
