@@ -913,6 +913,12 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         \begin{bmatrix} F_D + \lambda F_L - H^T f(U) \\ c_0 + \Delta c - w^T U \end{bmatrix},
 
     with the consistent tangent ``K_t = H^T D H`` of the interface laws.
+
+    Limitations found on the seed 001 specimens: kinematics are small-displacement, so the
+    fibre law's rocking uplift against immovable supports (fixed columns) builds unbounded
+    arching; the resultant law has no uplift, and with fixed columns its path can creep or
+    stall (Newton cycling at joints whose normal force vanishes), which ``on_failure="stop"``
+    reports as ``termination = "no_convergence"`` or ``"max_steps"``.
     """
     start = time.perf_counter()
     settings = StaticSettings() if settings is None else settings
