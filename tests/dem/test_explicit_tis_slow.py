@@ -11,10 +11,18 @@ def _rows(out):
     return {r.quantity: r for r in rows}
 
 
-def test_tis_panels_quick():
-    from validation.cases.tis import run_panels
+@pytest.fixture
+def tis_case(tmp_path, monkeypatch):
+    """The case module writing its npz files to a temporary directory (not the results)."""
+    import validation.cases.tis as tis
 
-    rows = _rows(run_panels(quick=True))
+    monkeypatch.setattr(tis, "RESULTS_DIR", tmp_path)
+    return tis
+
+
+def test_tis_panels_quick(tis_case, tmp_path):
+    rows = _rows(tis_case.run_panels(quick=True))
+    assert (tmp_path / "tis-peak-state.npz").exists()
     # P scales exactly with k_n (homogeneity), no interlock means no load
     assert rows["3x3 theta=2.5: P_max(10 E) / P_max(E)"].rel_error < 0.05
     assert rows["3x3 theta=0 (no interlock): P_max / P_max(theta=2.5)"].ours < 0.05
@@ -26,10 +34,8 @@ def test_tis_panels_quick():
             assert r.extra["energy_over_work_max"] <= 1.0, q  # no energy created
 
 
-def test_tis_friction_quick():
-    from validation.cases.tis import run_friction
-
-    rows = _rows(run_friction(quick=True))
+def test_tis_friction_quick(tis_case):
+    rows = _rows(tis_case.run_friction(quick=True))
     # smaller friction, lower peak (seed 000 Fig. 9a)
     assert rows["P_max(mu=0.21) / P_max(mu=0.23)"].ours < 1.0
     assert rows["P_max(mu=0.19) / P_max(mu=0.23)"].ours < 1.0
