@@ -15,12 +15,14 @@ Speed targets of issue 4: a Table 2 wall (about 300 blocks) in under 1 s, 10,000
 under 60 s on 2 cores. Times are wall-clock on a shared machine: compare ratios within a run.
 
 Measured (2 shared cores, load ~4, vertex model, Clarabel 0.11 with QDLDL, tol 1e-9):
-85 blocks 0.03 s, 263 blocks 0.26 s, 981 blocks 3.9-5.4 s, 3031 blocks 54 s of Clarabel; the
-time per interior-point iteration grows like the fill of the KKT factorisation (about
-n^1.5), with 35-40 iterations at every size, so 10,000 blocks takes several minutes: the
-60 s target is missed. ``faer`` (2 threads or 1) was 4-6x slower than QDLDL and SCS needed
-9,000 iterations (48 s at 981 blocks), so neither helps; a supernodal LDL^T with nested
-dissection ordering (Pardiso, MOSEK, CHOLMOD) is the remedy.
+85 blocks 0.03 s, 263 blocks 0.26 s, 981 blocks 3.9-5.4 s, 3031 blocks 54 s, 9871 blocks
+(29,260 interfaces, 117,040 cones) 201 s of Clarabel (206 s for assembly + compile + solve,
+plus 17 s of interface detection), lambda = 0.026. 35-40 interior-point iterations at every
+size; the time per iteration follows the fill of the KKT factorisation, so the 60 s target
+for 10,000 blocks is missed by about 3.5x. ``faer`` (2 threads or 1) was 4-6x slower than
+QDLDL, SCS needed 9,000 iterations (48 s at 981 blocks) and the kinematic (velocity) form is
+only about 25 % faster; a supernodal LDL^T with nested-dissection ordering (Pardiso, MOSEK,
+CHOLMOD) is the remedy.
 """
 
 from __future__ import annotations
