@@ -30,7 +30,11 @@ with ``A_eq = -H^T`` (:mod:`limit.matrices`) and one convex admissible set
     :math:`|M_3| \le (c_T\mu\tau_1)^{1/\alpha}(c_T\mu c)^{1-1/\alpha}`, one rotated
     second-order cone :math:`\|V\|^2 \le \mu^2 \tau_2 c` and :math:`\tau_1 + \tau_2 \le c`.
     It contains the Coulomb circle and :math:`|M_3| \le c_T \mu c`. ``torsion="independent"``
-    keeps only these two (no interaction: a larger set).
+    keeps only these two (no interaction: a larger set). Like the seed's law it measures the
+    torsion about the interface centroid, whereas with an eccentric normal force the friction
+    acts about the centre of pressure ``e``; the shear then carries the torque
+    :math:`e \times V` for free. That coupling is bilinear, so this model is not contained in
+    the exact (vertex) set and can exceed it on walls whose rocking joints also slide.
 
 A tensile strength :math:`\bar\sigma_t` shifts the Coulomb cone apex (seed 001, Eq. 8-10,
 :math:`c = \bar\sigma_t \mu`): both models carry it exactly by shifting the normal force by
