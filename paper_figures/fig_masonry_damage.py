@@ -20,7 +20,7 @@ RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
 RUNS = RESULTS / "masonry"
 OUT = Path(__file__).resolve().parent / "out"
 COLOURS = {"elastic": "green", "shear": "red", "flexural": "magenta", "detached": "lightgrey"}
-MAX_FIGURES = 12
+MAX_FIGURES = 20
 
 
 def _label(state: int) -> str:
