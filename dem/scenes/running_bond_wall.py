@@ -41,6 +41,59 @@ def course_spans(n: int, b: float, k: int) -> list[tuple[float, float]]:
     return list(zip(edges[:-1], edges[1:], strict=True))
 
 
+Opening = tuple[float, float, int, int]
+"""``(x0, x1, k0, k1)``: x range [m] and the courses ``k0 <= k < k1`` an opening spans."""
+
+
+def parse_openings(
+    openings_mm: Sequence[tuple[float, float, float, float]],
+    a: float,
+    x_range: tuple[float, float],
+    height: float,
+) -> list[Opening]:
+    """Check rectangular openings ``(x0, z0, x1, z1)`` [mm] and turn them into course ranges.
+
+    Raises ValueError when an opening leaves ``x_range`` or the wall height [m], or when its
+    bottom or top is not on a bed joint (a multiple of the block height ``a`` [m]).
+    """
+    out = []
+    for x0, z0, x1, z1 in openings_mm:
+        x0, z0, x1, z1 = x0 * MM, z0 * MM, x1 * MM, z1 * MM
+        if not (x_range[0] <= x0 < x1 <= x_range[1] and 0 <= z0 < z1 <= height):
+            raise ValueError(
+                f"opening {(x0 / MM, z0 / MM, x1 / MM, z1 / MM)} mm is not inside the wall "
+                f"(x from {x_range[0] / MM:g} to {x_range[1] / MM:g} mm)"
+            )
+        for z in (z0, z1):
+            if abs(z / a - round(z / a)) > 1e-9:
+                raise ValueError(
+                    f"opening edge z = {z / MM} mm is not on a bed joint (multiple of a)"
+                )
+        out.append((x0, x1, round(z0 / a), round(z1 / a)))
+    return out
+
+
+def cut_openings(
+    spans: list[tuple[float, float]], k: int, openings: Sequence[Opening], tiny: float
+) -> list[tuple[float, float]]:
+    """Block x ranges of course ``k`` with the openings taken out; bricks crossing an
+    opening's edge are cut there (pieces shorter than ``tiny`` [m] are dropped)."""
+    for x0, x1, k0, k1 in openings:
+        if not k0 <= k < k1:
+            continue
+        cut = []
+        for xl, xr in spans:
+            if xr <= x0 + tiny or xl >= x1 - tiny:
+                cut.append((xl, xr))
+                continue
+            if x0 - xl > tiny:
+                cut.append((xl, x0))
+            if xr - x1 > tiny:
+                cut.append((x1, xr))
+        spans = cut
+    return spans
+
+
 def running_bond_wall(
     n_per_course: int,
     n_courses: int,
@@ -117,37 +170,12 @@ def running_bond_wall(
         raise ValueError(f"live must be one of {LIVE_LOADS}, got {live!r}")
 
     a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
-    length, height = n * b, nc * a
-    openings = []
-    for x0, z0, x1, z1 in openings_mm:
-        x0, z0, x1, z1 = x0 * MM, z0 * MM, x1 * MM, z1 * MM
-        if not (0 <= x0 < x1 <= length and 0 <= z0 < z1 <= height):
-            raise ValueError(
-                f"opening {(x0 / MM, z0 / MM, x1 / MM, z1 / MM)} mm is not inside the wall"
-            )
-        for z in (z0, z1):
-            if abs(z / a - round(z / a)) > 1e-9:
-                raise ValueError(
-                    f"opening edge z = {z / MM} mm is not on a bed joint (multiple of a)"
-                )
-        openings.append((x0, x1, round(z0 / a), round(z1 / a)))
+    length = n * b
+    openings = parse_openings(openings_mm, a, (0.0, length), nc * a)
 
-    tiny = 1e-9 * b
     corners, course, ends = [], [], []
     for k in range(nc):
-        spans = course_spans(n, b, k)
-        for x0, x1, k0, k1 in openings:
-            if k0 <= k < k1:
-                cut = []
-                for xl, xr in spans:
-                    if xr <= x0 + tiny or xl >= x1 - tiny:
-                        cut.append((xl, xr))
-                        continue
-                    if x0 - xl > tiny:
-                        cut.append((xl, x0))
-                    if xr - x1 > tiny:
-                        cut.append((x1, xr))
-                spans = cut
+        spans = cut_openings(course_spans(n, b, k), k, openings, 1e-9 * b)
         first = len(corners)
         for xl, xr in spans:
             corners.append(_box(xl, xr, -s / 2, s / 2, k * a, (k + 1) * a))
