@@ -57,6 +57,10 @@ def _settings(spec: SeedSpecimen, model: str, quick: bool) -> StaticSettings:
             kw["fibre_points"] = 3 if quick else 4
     if quick:
         kw["max_steps"] = 150
+    elif model == "resultant":
+        # the resultant law creeps towards its plateau in small steps (Newton needs many
+        # iterations at joints whose normal force vanishes): allow a longer path
+        kw["max_steps"] = 1200
     return StaticSettings(**kw)
 
 
