@@ -30,14 +30,11 @@ import numpy as np
 
 from dem.geometry.polyhedron import convex_block
 from dem.scene import Assembly, Loads, Scene, Supports, point_load, proportional_to_weight
+from dem.scenes.running_bond_wall import box_corners, cut_openings, parse_openings
 from dem.units import KN, KN_M3, MM, G
 
 SIDES = ("left", "right")
 WALL_MAIN, WALL_LEFT, WALL_RIGHT, WALL_BASE = 0, 1, 2, -1
-
-
-def _box(x0, x1, y0, y1, z0, z1):
-    return np.array([(x, y, z) for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)])
 
 
 def wall_with_returns(
@@ -109,18 +106,8 @@ def wall_with_returns(
         raise ValueError(f"the corner bond needs s < b, got s = {s_mm} mm, b = {b_mm} mm")
     length, height = n * b, nc * a
     half = b / 2
-    openings = []
-    for x0, z0, x1, z1 in openings_mm:
-        x0, z0, x1, z1 = x0 * MM, z0 * MM, x1 * MM, z1 * MM
-        if not (b <= x0 < x1 <= length - b and 0 <= z0 < z1 <= height):
-            raise ValueError(
-                f"opening {(x0 / MM, z0 / MM, x1 / MM, z1 / MM)} mm is not inside the main "
-                "wall clear of the corners"
-            )
-        for z in (z0, z1):
-            if abs(z / a - round(z / a)) > 1e-9:
-                raise ValueError(f"opening edge z = {z / MM} mm is not on a bed joint")
-        openings.append((x0, x1, round(z0 / a), round(z1 / a)))
+    # openings keep clear of the corners, where the return walls bond in
+    openings = parse_openings(openings_mm, a, (b, length - b), height)
 
     tiny = 1e-9 * b
     corners, course, wall = [], [], []
@@ -136,20 +123,9 @@ def wall_with_returns(
                 spans = spans[1:]
             if "right" in returns:
                 spans = spans[:-1]
-        for x0, x1, k0, k1 in openings:
-            if k0 <= k < k1:
-                cut = []
-                for xl, xr in spans:
-                    if xr <= x0 + tiny or xl >= x1 - tiny:
-                        cut.append((xl, xr))
-                        continue
-                    if x0 - xl > tiny:
-                        cut.append((xl, x0))
-                    if xr - x1 > tiny:
-                        cut.append((x1, xr))
-                spans = cut
+        spans = cut_openings(spans, k, openings, tiny)
         for xl, xr in spans:
-            corners.append(_box(xl, xr, -s / 2, s / 2, z0, z1))
+            corners.append(box_corners(xl, xr, -s / 2, s / 2, z0, z1))
             course.append(k)
             wall.append(WALL_MAIN)
     y_min = -s / 2 - nr * b
@@ -164,11 +140,11 @@ def wall_with_returns(
                 edges = [s / 2 - i * b for i in range(nr + 1)]
                 edges[-1] = max(edges[-1], y_min)
             for y_hi, y_lo in zip(edges[:-1], edges[1:], strict=True):
-                corners.append(_box(xl, xr, y_lo, y_hi, z0, z1))
+                corners.append(box_corners(xl, xr, y_lo, y_hi, z0, z1))
                 course.append(k)
                 wall.append(label)
     n_wall = len(corners)
-    corners.append(_box(0.0, length, y_min, s / 2, -a, 0.0))
+    corners.append(box_corners(0.0, length, y_min, s / 2, -a, 0.0))
     course.append(-1)
     wall.append(WALL_BASE)
 

@@ -29,7 +29,8 @@ LIVE_LOADS = ("weight", "pressure", "none")
 OUT_OF_PLANE = 1  # index of uy among the block dofs
 
 
-def _box(x0, x1, y0, y1, z0, z1):
+def box_corners(x0, x1, y0, y1, z0, z1) -> np.ndarray:
+    """(8, 3) corners of the axis-aligned box ``[x0, x1] x [y0, y1] x [z0, z1]`` [m]."""
     return np.array([(x, y, z) for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)])
 
 
@@ -178,12 +179,12 @@ def running_bond_wall(
         spans = cut_openings(course_spans(n, b, k), k, openings, 1e-9 * b)
         first = len(corners)
         for xl, xr in spans:
-            corners.append(_box(xl, xr, -s / 2, s / 2, k * a, (k + 1) * a))
+            corners.append(box_corners(xl, xr, -s / 2, s / 2, k * a, (k + 1) * a))
             course.append(k)
         ends.append((first, len(corners) - 1) if spans else None)
     n_wall = len(corners)
     if base:
-        corners.append(_box(0.0, length, -s / 2, s / 2, -a, 0.0))
+        corners.append(box_corners(0.0, length, -s / 2, s / 2, -a, 0.0))
         course.append(-1)
 
     density = unit_weight_kn_m3 * KN_M3 / G
