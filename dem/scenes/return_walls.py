@@ -29,9 +29,14 @@ from collections.abc import Sequence
 import numpy as np
 
 from dem.geometry.polyhedron import convex_block
-from dem.scene import Assembly, Loads, Scene, Supports, point_load, proportional_to_weight
-from dem.scenes.running_bond_wall import box_corners, cut_openings, parse_openings
-from dem.units import KN, KN_M3, MM, G
+from dem.scene import Assembly, Loads, Scene, Supports, proportional_to_weight
+from dem.scenes.running_bond_wall import (
+    beam_load_wrench,
+    box_corners,
+    cut_openings,
+    parse_openings,
+)
+from dem.units import KN_M3, MM, G
 
 SIDES = ("left", "right")
 WALL_MAIN, WALL_LEFT, WALL_RIGHT, WALL_BASE = 0, 1, 2, -1
@@ -156,16 +161,9 @@ def wall_with_returns(
     supports = Supports(fixed, np.zeros((n_blocks, 6), dtype=bool))
     live = proportional_to_weight(assembly, (0.0, 1.0, 0.0))
     live[fixed] = 0.0
-    dead = np.zeros((n_blocks, 6))
     course_arr, wall_arr = np.array(course), np.array(wall)
     top = np.flatnonzero((course_arr == nc - 1) & (wall_arr == WALL_MAIN))
-    for x_mm, force_kn in beam_loads_kn:
-        x = x_mm * MM
-        xs = [assembly.blocks[i].vertices[:, 0] for i in top]
-        hit = [i for i, xv in zip(top, xs, strict=True) if xv.min() <= x <= xv.max()]
-        if not hit:
-            raise ValueError(f"beam load at x = {x_mm} mm is not above any top block")
-        dead += point_load(assembly, hit[0], (x, 0.0, height), (0.0, 0.0, -force_kn * KN))
+    dead = beam_load_wrench(assembly, top, beam_loads_kn)
     loads = Loads(np.array([0.0, 0.0, -G]), dead, live)
     meta = {
         "builder": "wall_with_returns",

@@ -95,6 +95,30 @@ def cut_openings(
     return spans
 
 
+def beam_load_wrench(
+    assembly: Assembly, top_blocks: Sequence[int], beam_loads_kn: Sequence[tuple[float, float]]
+) -> np.ndarray:
+    """(n_blocks, 6) downward beam forces ``(x [mm], force [kN])`` on the top blocks [N, N m].
+
+    Each force acts at ``x`` on the mid-plane of the top face of the top block under ``x``.
+    """
+    out = np.zeros((assembly.n_blocks, 6))
+    for x_mm, force_kn in beam_loads_kn:
+        x = x_mm * MM
+        hit = [
+            i
+            for i in top_blocks
+            if assembly.blocks[i].vertices[:, 0].min()
+            <= x
+            <= assembly.blocks[i].vertices[:, 0].max()
+        ]
+        if not hit:
+            raise ValueError(f"beam load at x = {x_mm} mm is not above any top block")
+        z_top = assembly.blocks[hit[0]].vertices[:, 2].max()
+        out += point_load(assembly, hit[0], (x, 0.0, z_top), (0.0, 0.0, -force_kn * KN))
+    return out
+
+
 def running_bond_wall(
     n_per_course: int,
     n_courses: int,
@@ -217,21 +241,8 @@ def running_bond_wall(
         live_wrench = np.zeros((n_blocks, 6))
     live_wrench[fixed] = 0.0
 
-    dead = np.zeros((n_blocks, 6))
-    for x_mm, force_kn in beam_loads_kn:
-        x = x_mm * MM
-        top = [i for i in range(n_wall) if course[i] == course_arr[:n_wall].max()]
-        hit = [
-            i
-            for i in top
-            if assembly.blocks[i].vertices[:, 0].min()
-            <= x
-            <= assembly.blocks[i].vertices[:, 0].max()
-        ]
-        if not hit:
-            raise ValueError(f"beam load at x = {x_mm} mm is not above any top block")
-        z_top = assembly.blocks[hit[0]].vertices[:, 2].max()
-        dead += point_load(assembly, hit[0], (x, 0.0, z_top), (0.0, 0.0, -force_kn * KN))
+    top = np.flatnonzero(course_arr == nc - 1)
+    dead = beam_load_wrench(assembly, top, beam_loads_kn)
 
     loads = Loads(np.array([0.0, 0.0, -G]), dead, live_wrench)
     meta = {
