@@ -174,6 +174,32 @@ def _clarabel_options(settings: LimitSettings) -> dict:
     }
 
 
+def _run_clarabel(
+    problem: cp.Problem,
+    settings: LimitSettings,
+    label: str,
+    msg_infeasible: str,
+    msg_unbounded: str,
+) -> str:
+    """Solve with Clarabel and map the status: return ``optimal`` or ``optimal_inaccurate``
+    (with a warning); raise :class:`LimitAnalysisError` with the structural message otherwise.
+    """
+    try:
+        problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **_clarabel_options(settings))
+    except cp.error.SolverError as exc:
+        raise LimitAnalysisError(f"Clarabel failed: {exc}") from exc
+    status = problem.status
+    if status in ("infeasible", "infeasible_inaccurate"):
+        raise LimitAnalysisError(f"{msg_infeasible} [{label} status {status}]")
+    if status in ("unbounded", "unbounded_inaccurate"):
+        raise LimitAnalysisError(f"{msg_unbounded} [{label} status {status}]")
+    if status not in ACCEPTED:
+        raise LimitAnalysisError(f"no certified optimum: {label} status {status!r}")
+    if status == "optimal_inaccurate":
+        warnings.warn(f"limit analysis: {label} status optimal_inaccurate", stacklevel=3)
+    return status
+
+
 def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
     """Solve a compiled programme, map its status and certify the solution.
 
@@ -190,22 +216,11 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
     """
     settings = sp_.settings
     t0 = time.perf_counter()
-    try:
-        sp_.problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **_clarabel_options(settings))
-    except cp.error.SolverError as exc:
-        raise LimitAnalysisError(f"Clarabel failed: {exc}") from exc
+    status = _run_clarabel(sp_.problem, settings, "solver", MSG_INFEASIBLE, MSG_UNBOUNDED)
     wall = time.perf_counter() - t0
-    status = sp_.problem.status
     stats = sp_.problem.solver_stats
     solve_s = float(stats.solve_time) if stats and stats.solve_time is not None else wall
-    if status in ("infeasible", "infeasible_inaccurate"):
-        raise LimitAnalysisError(f"{MSG_INFEASIBLE} [solver status {status}]")
-    if status in ("unbounded", "unbounded_inaccurate"):
-        raise LimitAnalysisError(f"{MSG_UNBOUNDED} [solver status {status}]")
-    if status not in ACCEPTED:
-        raise LimitAnalysisError(f"no certified optimum: solver status {status!r}")
     if status == "optimal_inaccurate":
-        warnings.warn("limit analysis: solver status optimal_inaccurate", stacklevel=2)
         logger.warning("solver status optimal_inaccurate (%s model)", sp_.model)
 
     lam = float(sp_.lam.value) * sp_.lam_scale
@@ -346,19 +361,8 @@ def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> t
     settings = settings or LimitSettings()
     check_scene(scene)
     kp = build_kinematic_problem(scene, settings)
-    try:
-        kp.problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **_clarabel_options(settings))
-    except cp.error.SolverError as exc:
-        raise LimitAnalysisError(f"Clarabel failed: {exc}") from exc
-    status = kp.problem.status
-    if status in ("unbounded", "unbounded_inaccurate"):
-        raise LimitAnalysisError(f"{MSG_INFEASIBLE} [kinematic status {status}]")
-    if status in ("infeasible", "infeasible_inaccurate"):
-        raise LimitAnalysisError(f"{MSG_UNBOUNDED} [kinematic status {status}]")
-    if status not in ACCEPTED:
-        raise LimitAnalysisError(f"no certified optimum: solver status {status!r}")
-    if status == "optimal_inaccurate":
-        warnings.warn("kinematic limit analysis: optimal_inaccurate", stacklevel=2)
+    # by conic duality the kinematic programme is unbounded where the static one is infeasible
+    status = _run_clarabel(kp.problem, settings, "kinematic", MSG_UNBOUNDED, MSG_INFEASIBLE)
     u = np.asarray(kp.velocity.value, float) * kp.row_scale
     live = scene.loads.live_wrench.ravel()[kp.free]
     u = u / float(live @ u)

@@ -6,7 +6,7 @@ import pytest
 from dem.scene import Scene, Supports
 from limit.errors import LimitAnalysisError
 from limit.problems import LimitSettings
-from limit.solve import limit_analysis
+from limit.solve import kinematic_analysis, limit_analysis
 from tests.limit._scenes import block_on_ground, box, harmonic_stack, pressed_block
 
 
@@ -85,3 +85,12 @@ def test_compressive_strength_with_eccentricity(model):
     weight = scene.assembly.mass[1] * 9.81
     res = limit_analysis(scene, LimitSettings(interface_model=model, compressive_strength=fc))
     np.testing.assert_allclose(res.lam, (b - weight / (fc * d)) / h, rtol=1e-6)
+
+
+def test_kinematic_form_reports_the_same_structural_errors():
+    """By conic duality the kinematic programme is unbounded where the static one is
+    infeasible, and infeasible where it is unbounded: the messages must still say which."""
+    with pytest.raises(LimitAnalysisError, match=r"falls down by itself.*kinematic status"):
+        kinematic_analysis(harmonic_stack(3, factor=1.05))
+    with pytest.raises(LimitAnalysisError, match=r"unbounded.*kinematic status"):
+        kinematic_analysis(pressed_block())
