@@ -92,7 +92,7 @@ class Assembly:
         vertex_arrays: Iterable[np.ndarray],
         density: float | Sequence[float],
         mu: float | Sequence[float] | None = None,
-        exact: bool = False,
+        exact: bool = True,
     ) -> Assembly:
         """Blocks from a list of vertex arrays, each the corners of one convex block.
 
@@ -105,7 +105,9 @@ class Assembly:
         mu : float or (n_blocks,), optional
             Friction coefficient [-].
         exact : bool
-            Require each vertex list to be in convex position (see :func:`convex_block`).
+            Require each vertex list to be exactly the corners of a convex block (see
+            :func:`convex_block`), so that a non-convex block, or a point inside, raises
+            instead of being replaced by its convex hull. Pass False to accept the hull.
         """
         blocks = []
         for i, v in enumerate(vertex_arrays):

@@ -64,3 +64,15 @@ def test_bad_scene_input_raises():
         scene.with_loads(live=np.full((1, 6), np.nan))
     with pytest.raises(ValueError, match=r"loads.dead_wrench must have shape \(1, 6\)"):
         scene.with_loads(dead=np.zeros((2, 6)))
+
+
+def test_non_convex_user_block_raises_instead_of_taking_its_hull():
+    # an L-shaped prism: its re-entrant corners lie inside the convex hull
+    l_shape = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]], dtype=float)
+    corners = np.vstack(
+        [np.column_stack([l_shape, np.zeros(6)]), np.column_stack([l_shape, np.ones(6)])]
+    )
+    with pytest.raises(ValueError, match=r"block 0: .*not in convex position: points \[3, 9\]"):
+        Scene.from_convex_blocks([corners], density=1000.0)
+    hull = Assembly.from_convex_blocks([corners], 1000.0, exact=False)
+    assert hull.volume[0] == pytest.approx(3.5)  # the hull: 4 - 1/2, by hand
