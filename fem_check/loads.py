@@ -28,7 +28,7 @@ from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
 from dem.geometry.interfaces import Interfaces
-from dem.geometry.polyhedron import ConvexBlock, convex_block
+from dem.geometry.polyhedron import ConvexBlock, clip_halfspace
 
 log = logging.getLogger(__name__)
 
@@ -430,35 +430,6 @@ def check_equilibrium(
     return report
 
 
-def block_part(block: ConvexBlock, normal: np.ndarray, offset: float) -> ConvexBlock | None:
-    """The part ``normal . x >= offset`` of a convex block, or None if it has no volume.
-
-    The kept corners and the points where edges cross the plane span the part (convex, as the
-    intersection of two convex sets).
-    """
-    dist = block.vertices @ np.asarray(normal, dtype=float) - offset
-    tol = 1e-12 * block.size
-    if np.all(dist >= -tol):
-        return block
-    if np.all(dist <= tol):
-        return None
-    pairs = np.concatenate([np.column_stack([f, np.roll(f, -1)]) for f in block.faces])
-    i, j = np.unique(np.sort(pairs, axis=1), axis=0).T
-    cross = (dist[i] < -tol) & (dist[j] > tol) | (dist[i] > tol) & (dist[j] < -tol)
-    w = dist[i[cross]] / (dist[i[cross]] - dist[j[cross]])
-    points = np.concatenate(
-        [
-            block.vertices[dist >= -tol],
-            block.vertices[i[cross]]
-            + w[:, None] * (block.vertices[j[cross]] - block.vertices[i[cross]]),
-        ]
-    )
-    try:
-        return convex_block(points)
-    except ValueError:  # a sliver without volume
-        return None
-
-
 def loads_on_side(
     block: ConvexBlock, load: BlockLoad, normal: np.ndarray, offset: float, about: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -469,7 +440,7 @@ def loads_on_side(
     """
     normal = np.asarray(normal, dtype=float)
     about = np.asarray(about, dtype=float)
-    part = block_part(block, normal, offset)
+    part = clip_halfspace(block, -np.asarray(normal, dtype=float), -offset)  # n . x >= offset
     force, moment = np.zeros(3), np.zeros(3)
     if part is not None:
         force, moment = body_resultant_on(part, block.centroid, load, about)
