@@ -15,10 +15,10 @@ from dem.geometry.interfaces import Interfaces
 from dem.scene import Assembly, Scene
 
 
-def block_surface(
+def posed_vertices(
     assembly: Assembly, rotation: np.ndarray | None = None, centroid: np.ndarray | None = None
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Triangulated block surfaces, optionally in moved poses.
+) -> np.ndarray:
+    """(n_vert, 3) corners of all blocks [m], in ``assembly.arrays`` order, optionally moved.
 
     Parameters
     ----------
@@ -27,6 +27,21 @@ def block_surface(
         Rotation of each block from its reference pose.
     centroid : (n_blocks, 3) float, optional
         Current centroids [m] (default: the reference centroids).
+    """
+    arrays = assembly.arrays
+    if rotation is None and centroid is None:
+        return arrays.vertices.copy()
+    ref = assembly.centroid
+    rot = np.broadcast_to(np.eye(3), (assembly.n_blocks, 3, 3)) if rotation is None else rotation
+    cur = ref if centroid is None else centroid
+    owner = np.repeat(np.arange(assembly.n_blocks), np.diff(arrays.vert_ptr))
+    return np.einsum("pij,pj->pi", rot[owner], arrays.vertices - ref[owner]) + cur[owner]
+
+
+def block_surface(
+    assembly: Assembly, rotation: np.ndarray | None = None, centroid: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Triangulated block surfaces, optionally in moved poses (see :func:`posed_vertices`).
 
     Returns
     -------
@@ -37,15 +52,7 @@ def block_surface(
         Block of each triangle.
     """
     arrays = assembly.arrays
-    points = arrays.vertices.copy()
-    if rotation is not None or centroid is not None:
-        ref = assembly.centroid
-        rot = (
-            np.broadcast_to(np.eye(3), (assembly.n_blocks, 3, 3)) if rotation is None else rotation
-        )
-        cur = ref if centroid is None else centroid
-        owner = np.repeat(np.arange(assembly.n_blocks), np.diff(arrays.vert_ptr))
-        points = np.einsum("pij,pj->pi", rot[owner], points - ref[owner]) + cur[owner]
+    points = posed_vertices(assembly, rotation, centroid)
     tris, owner_tri = [], []
     face_block = np.repeat(np.arange(assembly.n_blocks), np.diff(arrays.face_ptr))
     for f in range(len(arrays.face_offset)):
@@ -140,7 +147,7 @@ def render_scene(
     """Draw the blocks off-screen to a PNG, coloured by a per-block scalar (default: fixed)."""
     import pyvista as pv
 
-    points, _, _ = block_surface(scene.assembly, rotation, centroid)
+    points = posed_vertices(scene.assembly, rotation, centroid)
     arrays = scene.assembly.arrays
     sizes = np.diff(arrays.face_vert_ptr)
     faces = np.insert(arrays.face_vert, arrays.face_vert_ptr[:-1], sizes)

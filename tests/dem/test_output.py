@@ -21,3 +21,21 @@ def test_scene_and_interface_vtu_round_trip(tmp_path, two_block_stack):
 def test_render_scene_writes_a_png(tmp_path, two_block_stack):
     path = render_scene(tmp_path / "s.png", two_block_stack)
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_posed_vertices_match_rigidly_transformed_blocks(two_block_stack):
+    from scipy.spatial.transform import Rotation
+
+    from dem.output import posed_vertices
+
+    a = two_block_stack.assembly
+    rot = Rotation.from_rotvec([[0.1, 0.2, 0.3], [0.0, -0.4, 0.1], [0.0, 0.0, 0.0]]).as_matrix()
+    centroid = a.centroid + np.array([[1.0, 0, 0], [0, 2.0, 0], [0, 0, 0]])
+    # rotating about the centroid, then moving it: x -> R x + (c' - R c)
+    expected = np.concatenate(
+        [
+            b.transformed(r, c - r @ b.centroid).vertices
+            for b, r, c in zip(a.blocks, rot, centroid, strict=True)
+        ]
+    )
+    np.testing.assert_allclose(posed_vertices(a, rot, centroid), expected, atol=1e-14)
