@@ -8,9 +8,6 @@ import scipy.sparse as sp
 from dem.geometry.interfaces import Interfaces
 from dem.kernels.triplets import compatibility_triplets
 
-INTERFACE_COMPONENTS = ("dn", "dt1", "dt2", "phi1", "phi2", "phi3")
-"""Relative motion of block b w.r.t. a at an interface, conjugate to (N, V1, V2, M1, M2, M3)."""
-
 
 def compatibility_matrix(block_centroid: np.ndarray, interfaces: Interfaces) -> sp.csr_matrix:
     """Sparse ``H`` with ``q = H U`` (seed 001, Eq. 3 and A1-A3 in general form).
