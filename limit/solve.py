@@ -215,6 +215,12 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
         Infeasible, unbounded, solver failure, or a failed certificate.
     """
     settings = sp_.settings
+    implied = sp_.extra.get("implied_sign")
+    if implied is not None and np.any(np.asarray(sp_.mu.value)[implied] <= 0):
+        raise ValueError(
+            "mu was set to zero at corners whose p >= 0 row was left out as implied by the "
+            "friction cone: build the programme with mu = 0 in its settings instead"
+        )
     t0 = time.perf_counter()
     status = _run_clarabel(sp_.problem, settings, "solver", MSG_INFEASIBLE, MSG_UNBOUNDED)
     wall = time.perf_counter() - t0

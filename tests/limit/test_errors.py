@@ -94,3 +94,27 @@ def test_kinematic_form_reports_the_same_structural_errors():
         kinematic_analysis(harmonic_stack(3, factor=1.05))
     with pytest.raises(LimitAnalysisError, match=r"unbounded.*kinematic status"):
         kinematic_analysis(pressed_block())
+
+
+def test_corner_normal_forces_stay_compressive_without_sign_rows():
+    """With mu > 0 the friction cone alone keeps every corner force compressive (p >= 0)."""
+    from limit.problems import build_static_problem
+    from limit.solve import solve_static
+
+    scene = block_on_ground(0.4, 0.3, 0.8, mu=0.7)
+    sp_ = build_static_problem(scene, LimitSettings())
+    assert sp_.extra["implied_sign"].all()
+    res = solve_static(sp_)
+    assert res.lam == pytest.approx(0.5, rel=1e-6)  # overturning: b/h
+    assert res.vertex_forces[:, 0].min() >= -1e-9 * sp_.weight
+
+
+def test_zero_mu_after_build_is_refused():
+    """Setting mu = 0 on corners whose sign row was left out would free p: refused."""
+    from limit.problems import build_static_problem
+    from limit.solve import solve_static
+
+    sp_ = build_static_problem(block_on_ground(0.4, 0.3, 0.8, mu=0.7), LimitSettings())
+    sp_.mu.value = np.zeros(sp_.n_cones)
+    with pytest.raises(ValueError, match="mu = 0"):
+        solve_static(sp_)
