@@ -101,7 +101,9 @@ class LimitSettings:
         Exponent alpha of the interaction (seed 001, Eq. 14: 1.5 for masonry joints) [-], >= 1.
     friction_polygon : int, optional
         If given, replace every friction circle by the inscribed regular polygon with this
-        many sides (a smaller set: lambda can only decrease). Default None: exact cones. A
+        many sides, corners at the angles ``2 pi j / k`` from the interface axis ``t1`` (a
+        smaller set: lambda can only decrease; doubling ``k`` can only raise it back towards
+        the exact value). Default None: exact cones. A
         circumscribed polygon (facets tangent to the circle, as some public codes use)
         enlarges the set and is never safe; it is deliberately not offered.
     tensile_strength : float
@@ -256,7 +258,10 @@ def _scales(scene: Scene, free: np.ndarray, interfaces) -> tuple[float, float, n
 
 
 def _polygon_directions(k: int) -> tuple[np.ndarray, float]:
-    ang = 2 * np.pi * np.arange(k) / k
+    """Facet normals and apothem (circle radius 1) of the inscribed regular ``k``-gon whose
+    corners lie at the angles ``2 pi j / k`` from ``t1``: a ``k``-gon lies inside the
+    ``2k``-gon, so refining the polygon can only raise lambda."""
+    ang = 2 * np.pi * (np.arange(k) + 0.5) / k
     return np.stack([np.cos(ang), np.sin(ang)], axis=1), math.cos(math.pi / k)
 
 

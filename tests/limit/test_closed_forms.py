@@ -3,12 +3,13 @@
 import numpy as np
 import pytest
 
+from dem.scene import Scene, proportional_to_weight
 from dem.scenes.running_bond_wall import running_bond_wall
 from limit.errors import LimitAnalysisError
 from limit.matrices import mean_distance_polygon
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
-from tests.limit._scenes import block_on_ground, harmonic_stack, torsion_pair
+from tests.limit._scenes import GROUND, block_on_ground, box, harmonic_stack, torsion_pair
 
 MODELS = ("vertex", "resultant")
 RTOL = 1e-6
@@ -87,16 +88,32 @@ def test_harmonic_overhang(model):
         limit_analysis(harmonic_stack(4, factor=1 + eps), LimitSettings(interface_model=model))
 
 
-def test_inscribed_polygon_is_safe():
-    """An inscribed friction polygon can only lower lambda (sliding block: mu cos(pi/k) in
-    the worst direction, mu along a polygon vertex direction)."""
-    scene = block_on_ground(1.0, 1.0, 0.2, 0.5)  # slides at mu = 0.5
+def _sliding_block(theta: float, mu: float = 0.5):
+    """A flat block (it cannot overturn) on the ground, live load = its weight at ``theta``
+    from x in the horizontal plane."""
+    blk = box((-0.5, -0.5, 0.0), (0.5, 0.5, 0.2))
+    scene = Scene.from_convex_blocks([GROUND, blk], 2000.0, fixed=[0], mu=mu)
+    direction = (np.cos(theta), np.sin(theta), 0.0)
+    return scene.with_loads(live=proportional_to_weight(scene.assembly, direction))
+
+
+@pytest.mark.parametrize("theta_deg", [0.0, 22.5, 30.0])
+def test_inscribed_polygons_are_safe_and_nested(theta_deg):
+    """A sliding block carries lambda = the radius of the friction set along the load: mu for
+    the exact cone; for the inscribed k-gon with corners at 2 pi j / k from x,
+    mu cos(pi/k) / cos(theta - phi) with phi the nearest facet normal (2 pi (j + 1/2) / k).
+    k = 4, 8, 16 are nested, so lambda rises monotonically towards mu."""
+    mu, theta = 0.5, np.radians(theta_deg)
+    scene = _sliding_block(theta, mu)
     exact = limit_analysis(scene, LimitSettings()).lam
-    poly = limit_analysis(scene, LimitSettings(friction_polygon=8)).lam
-    assert poly <= exact * (1 + 1e-9)
-    np.testing.assert_allclose(exact, 0.5, rtol=RTOL)
-    # x is a facet normal of the inscribed 8-gon: there the capacity is mu cos(pi/8)
-    np.testing.assert_allclose(poly, 0.5 * np.cos(np.pi / 8), rtol=RTOL)
+    np.testing.assert_allclose(exact, mu, rtol=RTOL)
+    previous = 0.0
+    for k in (4, 8, 16):
+        lam = limit_analysis(scene, LimitSettings(friction_polygon=k)).lam
+        phi = 2 * np.pi * (np.round(theta * k / (2 * np.pi) - 0.5) + 0.5) / k
+        np.testing.assert_allclose(lam, mu * np.cos(np.pi / k) / np.cos(theta - phi), rtol=RTOL)
+        assert previous <= lam * (1 + 1e-8) and lam <= exact * (1 + 1e-8)
+        previous = lam
 
 
 def test_mean_distance_independent_of_vertex_order():

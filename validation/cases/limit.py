@@ -286,8 +286,11 @@ def run_closed_forms(quick: bool = True):
             "closed form mu*",
         )
         add(
-            f"sliding block, inscribed 8-gon friction: mu cos(pi/8) [{model}]",
-            _block_scene(1.0, 1.0, 0.2, 0.5),
+            f"sliding block pushed at pi/8 from a corner of the inscribed 8-gon: "
+            f"mu cos(pi/8) [{model}]",
+            _block_scene(
+                1.0, 1.0, 0.2, 0.5, direction=(math.cos(math.pi / 8), math.sin(math.pi / 8), 0.0)
+            ),
             s.with_(friction_polygon=8),
             0.5 * math.cos(math.pi / 8),
             "closed form (facet normal of the inscribed polygon)",
@@ -517,8 +520,10 @@ def run_orduna(quick: bool = True):
             "",
             *lines,
             "",
-            "Inscribed friction polygons (4, 8, 16 sides) shrink every cone and can only lower "
-            "the multiplier (rows with `change_vs_exact`); a circumscribed polygon would "
+            "Inscribed friction polygons (4, 8, 16 sides, corners on the interface axes, so "
+            "each lies inside the next) shrink every cone and can only lower the multiplier, "
+            "which rises monotonically towards the exact value as the sides double (rows with "
+            "`change_vs_exact`); a circumscribed polygon would "
             "enlarge the cones and is never safe for a static (lower-bound-type) statement.",
             "",
             "Our associated upper bounds lie far above 0.127 / 0.193 (and above the FEM "
