@@ -206,9 +206,12 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
         viol, scale = _dual_cone_violation(c, kind, z)
         cone_viol = max(cone_viol, viol)
         zmax = max(zmax, scale)
-    primal = max(
-        (float(np.max(c.violation(), initial=0.0)) for c in problem.constraints), default=0.0
-    )
+    # cvxpy's cone projection divides by |x| = 0 before masking those entries out
+    with np.errstate(divide="ignore", invalid="ignore"):
+        primal = max(
+            (float(np.max(c.violation(), initial=0.0)) for c in problem.constraints),
+            default=0.0,
+        )
     denom = max(1.0, abs(objective))
     return {
         "primal_residual": primal,
