@@ -171,6 +171,36 @@ def test_resultant_interaction_surface_eq_A5():
     np.testing.assert_allclose((abs(f[5]) / m_u) ** 1.5 + (f[1] / v_u) ** 2, 1.0, rtol=1e-10)
 
 
+@pytest.mark.parametrize(
+    "q",
+    [
+        [-240.0 / K6[0], 1e-3, 0, 0, 0, 0],  # sliding
+        [-240.0 / K6[0], 1e-3, 2e-3, 0, 0, 0],  # oblique sliding
+        [-240.0 / K6[0], 0, 0, -1.0, 0, 0],  # rocking about t1
+        [-240.0 / K6[0], 0, 0, 0, 0.3, 0],  # rocking about t2
+        [-240.0 / K6[0], 0, 0, 0, 0, 1.0],  # pure torsion
+        [-240.0 / K6[0], 5e-4, 0, 0, 0, 0.05],  # torsion-shear interaction (A5)
+        [-240.0 / K6[0], 3e-6, 1e-6, 2e-3, -4e-4, 0.03],  # all at once
+    ],
+)
+def test_resultant_return_is_a_fixed_point(q):
+    # After a plastic return the committed state lies on the limit; evaluating the law again at
+    # the same motion from that state must give the same actions, the same state (still
+    # yielding) and the tangent of continued plastic flow: perfectly plastic, so no stiffness
+    # along the plastic flow dq_p (closed form: dq_p . D dq_p = 0, against dq_p . K dq_p > 0
+    # elastically). A strict "trial > limit" test took such joints as elastic at the start of
+    # every load step (two thirds of the yielded joints of seed 001's S11), and the
+    # path-following stalled.
+    q = np.array(q, dtype=float)
+    f, qp, _, _, st = _law(q)
+    assert st != STATE_ELASTIC
+    f2, _, D2, _, st2 = _law(q, qp=qp)
+    assert st2 == st
+    np.testing.assert_allclose(f2, f, rtol=1e-12, atol=1e-12 * np.abs(f).max())
+    flow = qp / np.linalg.norm(qp * np.sqrt(K6))  # elastic energy flow . K flow = 1
+    assert abs(flow @ D2 @ flow) <= 1e-9
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_resultant_tangent_matches_finite_differences(seed):
     rng = np.random.default_rng(seed)
