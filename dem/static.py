@@ -148,8 +148,15 @@ class StaticSettings:
         ``N -> 0``) is accepted if its best relative residual is below this; the residual is
         of the total equilibrium, so the error does not accumulate. Counted in
         ``StaticResult.n_loose_steps``.
-    tangent_floor : float
-        Fraction of the elastic stiffness kept by yielded components of the tangent.
+    tangent_floor : float or None
+        Fraction of the elastic stiffness kept by yielded components of the iteration matrix
+        (the residual uses the exact law, so the converged path does not depend on it). None:
+        1e-4 for the resultant law, 1e-9 for the fibre law. With a near-zero floor, blocks
+        held only by yielded joints make the resultant law's tangent nearly singular and the
+        Newton steps huge: on seed 001's S11 1e-9 stalls the path, while 1e-6 to 1e-3 give the
+        same lambda_max to 0.01 % (1e-4 the fastest). The fibre law, whose yielded springs are
+        a part of each joint only, converges best near the consistent tangent (S11 with return
+        walls: 51 steps at 1e-9, no plateau within 400 steps at 1e-4).
     min_step_ratio : float
         Smallest control increment, relative to the first, before giving up a step.
     plateau_slope : float
@@ -187,7 +194,7 @@ class StaticSettings:
     target_iterations: int = 10
     tolerance: float = 1e-6
     accept_tolerance: float = 1e-4
-    tangent_floor: float = 1e-9
+    tangent_floor: float | None = None
     min_step_ratio: float = 1e-4
     plateau_slope: float = 2e-3
     plateau_steps: int = 4
@@ -233,6 +240,8 @@ class StaticSettings:
                 raise ValueError(f"{name} must be an integer >= {low}, got {v!r}")
         for name in ("tangent_floor", "min_step_ratio", "plateau_slope", "softening_drop"):
             v = getattr(self, name)
+            if name == "tangent_floor" and v is None:
+                continue
             if not (math.isfinite(v) and 0 <= v < 1):
                 raise ValueError(f"{name} must be in [0, 1), got {v!r}")
 
@@ -491,6 +500,9 @@ class _Model:
         self.w = self.F_live / live_force
         self.state = np.zeros(m, dtype=np.int64)
         self.linear = _LinearSolver()
+        self.tangent_floor = s.tangent_floor
+        if s.tangent_floor is None:
+            self.tangent_floor = 1e-4 if s.interface_model == "resultant" else 1e-9
 
     # -- supports -----------------------------------------------------------------------------
     def _check_supported(self):
@@ -520,7 +532,7 @@ class _Model:
         D = np.empty((m, 6, 6))
         state = np.empty(m, dtype=np.int64)
         if floor is None:
-            floor = self.settings.tangent_floor
+            floor = self.tangent_floor
         if self.settings.interface_model == "resultant":
             qp = np.empty((m, 6))
             broken = np.empty(m, dtype=np.bool_)
@@ -770,10 +782,10 @@ def _newton(model, settings, u0, lam0, dead_target=None, dc=None, floor0=None, m
     Yielded and open components of the tangent keep a fraction ``floor`` of their elastic
     stiffness. An iterate that raises the residual is rejected and the floor grows tenfold
     (a stiffer, shorter step); an accepted one lowers it tenfold down to
-    ``settings.tangent_floor``, so the iteration ends with the consistent tangent. The floor
+    ``StaticSettings.tangent_floor``, so the iteration ends with the consistent tangent. The floor
     changes only the iteration matrix: the residual uses the exact interface law.
     """
-    floor_min = settings.tangent_floor
+    floor_min = model.tangent_floor
     floor = floor_min if floor0 is None else max(floor0, floor_min)
     ref = np.linalg.norm(model.F_dead) + 1e-300
     fl = np.linalg.norm(model.F_live)
@@ -818,7 +830,7 @@ def _newton(model, settings, u0, lam0, dead_target=None, dc=None, floor0=None, m
             continue
         # backtracking along the Newton direction (the constraint row is linear, so a partial
         # step keeps a proportional constraint residual)
-        for step_len in (1.0, 0.5, 0.25, 0.125):
+        for step_len in (1.0, 0.5, 0.25, 0.125, 1 / 32, 1 / 256):
             u_new = u + step_len * sol[: model.n_free]
             lam_new = lam if dc is None else lam + step_len * sol[-1]
             f1, D1, st1, tr1, R1 = residual(u_new, lam_new, floor)
@@ -916,9 +928,8 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
 
     Limitations found on the seed 001 specimens: kinematics are small-displacement, so the
     fibre law's rocking uplift against immovable supports (fixed columns) builds unbounded
-    arching; the resultant law has no uplift, and with fixed columns its path can creep or
-    stall (Newton cycling at joints whose normal force vanishes), which ``on_failure="stop"``
-    reports as ``termination = "no_convergence"`` or ``"max_steps"``.
+    arching. The resultant law has no uplift (its hinges rotate about the joint centroid), so
+    with fixed columns the wall rather overturns about its base, sliding along the column.
     """
     start = time.perf_counter()
     settings = StaticSettings() if settings is None else settings
@@ -1013,7 +1024,11 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         slope = dlam / dc
         if slope0 is None:
             slope0 = max(lam / (ctrl[-1] - ctrl[0]), 1e-300)
-        if slope < settings.plateau_slope * slope0:
+        # a loose step's lambda carries an error of order accept_tolerance, which on a short
+        # step can exceed the true increment: it neither counts towards the plateau nor resets it
+        if out.loose:
+            pass
+        elif slope < settings.plateau_slope * slope0:
             n_plateau += 1
         else:
             n_plateau = 0
@@ -1023,7 +1038,8 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         if lam < (1.0 - settings.softening_drop) * peak["lam"]:
             termination = "softening"
             break
-        growth = math.sqrt(settings.target_iterations / max(its, 1))
+        # a loose step stalled at a kink of the law, which a shorter step does not remove
+        growth = 1.0 if out.loose else math.sqrt(settings.target_iterations / max(its, 1))
         dc = min(dc * min(max(growth, 0.5), 2.0), dc_max)
     else:
         logger.warning("max_steps = %d reached before a collapse plateau", settings.max_steps)

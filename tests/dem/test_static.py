@@ -98,6 +98,31 @@ def test_stiffness_halved_load_step_same_collapse():
     np.testing.assert_allclose(lam, lam[1], rtol=1e-2)
 
 
+def test_wall_with_fixed_column_reaches_its_mechanism_whatever_the_step():
+    # seed 001's model of a return wall (end block of every course fixed), small: 3 x 6
+    # Restrepo blocks, resultant law. The collapse multiplier must not depend on the load
+    # step (rtol 1 %), the path must end on a plateau, and lambda must lie below the
+    # associated bound of the same joint model (Radenkovic: zero-dilatancy friction cannot
+    # carry more). Before the return mapping kept yielded joints yielding at the start of a
+    # step, Newton cycled and the path stalled at 0.18-0.20 depending on the step (a false
+    # plateau on the noise of loosely converged steps).
+    from limit.problems import LimitSettings
+    from limit.solve import limit_analysis
+
+    scene = running_bond_wall(
+        3, 6, 28.24, 79.78, 39.68, 26.8, 0.7, fixed_columns=("left",), live="weight"
+    )
+    results = [
+        solve_collapse(scene, StaticSettings(load_step=step, on_failure="stop"))
+        for step in (0.005, 0.01, 0.02)
+    ]
+    lam = [r.lambda_max for r in results]
+    assert all(r.termination == "plateau" for r in results)
+    np.testing.assert_allclose(lam, lam[1], rtol=1e-2)
+    upper = limit_analysis(scene, LimitSettings(interface_model="resultant")).lam
+    assert lam[1] <= upper
+
+
 def test_unsupported_block_is_named():
     # a block floating apart from the base: singular stiffness before any load
     blocks = [
