@@ -1011,6 +1011,7 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
                 dc=dc,
                 floor0=floor,
                 guess=(u + scale * last_du, lam + scale * last_dlam),
+                max_iterations=settings.target_iterations,
             )
         if out is None or not out.converged:
             if out is not None:
