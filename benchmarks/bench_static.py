@@ -4,7 +4,8 @@ Run ``python benchmarks/bench_static.py [--quick]``. Prints
 
 1. the wall time of one Restrepo-Velez specimen (S11, about 300 blocks) to collapse for each
    interface law and return-wall model, against the target of 10 s on 2 cores;
-2. a scaling table from 100 to 10,000 blocks (free-standing running-bond walls, resultant and
+2. the stability target: lambda_max of S11 with the load step halved and doubled (1 %);
+3. a scaling table from 100 to 10,000 blocks (free-standing running-bond walls, resultant and
    fibre laws): set-up (interfaces, H blocks), one evaluation of the interface law plus the
    stiffness assembly, one sparse factorisation of the tangent, and a full collapse run up to
    ``--collapse-max`` blocks; times per block in microseconds.
@@ -43,6 +44,25 @@ def specimen(quick: bool) -> None:
             f"{result.lambda_max:.4f} (test {spec.reference})  steps {result.n_steps:4d} "
             f"iterations {result.n_iterations:5d}  {wall:6.2f} s  "
             f"{'OK' if wall < TARGET_S else 'over target'}"
+        )
+
+
+def stability(quick: bool) -> None:
+    print("== lambda_max of S11 with the load step halved and doubled (target 1 %) ==")
+    variants = [("resultant", "fixed_column")]
+    if not quick:
+        variants += [("fibre", "blocks"), ("resultant", "blocks")]
+    for model, variant in variants:
+        scene = restrepo_specimen("S11", variant)
+        lam = {}
+        for step in (0.005, 0.01, 0.02):
+            settings = StaticSettings(interface_model=model, load_step=step, on_failure="stop")
+            lam[step] = solve_collapse(scene, settings).lambda_max
+        spread = max(abs(lam[s] / lam[0.01] - 1) for s in (0.005, 0.02))
+        values = "  ".join(f"{s}: {v:.5f}" for s, v in lam.items())
+        print(
+            f"S11 {model:9s} {variant:12s} {values}  largest change {spread:.2%}  "
+            f"{'OK' if spread < 0.01 else 'over target'}"
         )
 
 
@@ -93,6 +113,7 @@ def main(argv=None) -> None:
     parser.add_argument("--collapse-max", type=int, default=2000)
     args = parser.parse_args(argv)
     specimen(args.quick)
+    stability(args.quick)
     sizes = (100, 300, 1000) if args.quick else (100, 300, 1000, 3000, 10000)
     scaling(sizes, args.collapse_max)
 

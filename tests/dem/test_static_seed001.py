@@ -75,6 +75,19 @@ def test_collapse_load_independent_of_the_load_step(step):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("step", [0.005, 0.02])
+def test_seed_model_collapse_independent_of_the_load_step(step):
+    # the seed's own model (resultant law, end column fixed), S11: halving or doubling the
+    # load step changes lambda_max by less than 1 %, and every path ends on the plateau
+    spec = SPECIMENS["restrepo-S11"]
+    scene = spec.build(return_walls="fixed_column")
+    ref = solve_collapse(scene, _settings(spec, "resultant", load_step=0.01))
+    res = solve_collapse(scene, _settings(spec, "resultant", load_step=step))
+    assert ref.termination == res.termination == "plateau"
+    np.testing.assert_allclose(res.lambda_max, ref.lambda_max, rtol=1e-2)
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("case", ["masonry-orduna", "masonry-restrepo", "masonry-chee-liang"])
 def test_quick_validation_case_runs(case):
     from validation.cases import masonry
