@@ -37,6 +37,7 @@ __all__ = [
     "rocking_constraints",
     "torsion_coefficient",
     "mean_distance_polygon",
+    "mean_distance_polygons",
     "interface_rectangles",
     "interface_friction",
 ]
@@ -201,53 +202,75 @@ def rocking_constraints(interfaces: Interfaces) -> tuple[sp.csr_matrix, np.ndarr
     return g, np.concatenate(hs), np.concatenate(owner).astype(np.int64)
 
 
-def _sec3_integral(theta: float) -> float:
-    """Antiderivative of sec^3: (sec tan + ln|sec + tan|) / 2."""
-    s, t = 1.0 / math.cos(theta), math.tan(theta)
-    return 0.5 * (s * t + math.log(abs(s + t)))
+def _sec3_antiderivative(a: np.ndarray) -> np.ndarray:
+    r""":math:`\int_0^{\arctan a} \sec^3 = (a\sqrt{1+a^2} + \operatorname{asinh} a) / 2`."""
+    return 0.5 * (a * np.sqrt(1.0 + a * a) + np.arcsinh(a))
 
 
-def mean_distance_polygon(poly: np.ndarray, point: np.ndarray | None = None) -> float:
-    r"""Mean distance :math:`\frac{1}{A}\int_P |y - y_0|\,dA` of a convex polygon [m] (exact).
+def mean_distance_polygons(
+    corners: np.ndarray, ptr: np.ndarray, points: np.ndarray | None = None
+) -> np.ndarray:
+    r"""Mean distance :math:`\frac{1}{A}\int_P |y - y_0|\,dA` of convex polygons [m] (exact).
 
     Parameters
     ----------
-    poly : (k, 2) float
-        Corners [m], either orientation.
-    point : (2,) float, optional
-        ``y_0``; default the polygon centroid.
+    corners : (p, 2) float
+        Corners of all polygons, polygon ``k`` in rows ``ptr[k]:ptr[k + 1]``, either
+        orientation [m].
+    ptr : (m + 1,) int
+    points : (m, 2) float, optional
+        ``y_0`` per polygon; default the centroids.
+
+    Returns
+    -------
+    (m,) float
 
     Notes
     -----
     Fan of triangles from ``y_0``; on each, in polar coordinates about ``y_0`` with the edge
-    at distance ``h`` and foot angle ``theta_0``, :math:`\int r\,dA = \frac{h^3}{3}
-    \int \sec^3(\theta - \theta_0)\,d\theta`, integrated in closed form.
+    at distance ``h`` and foot of the perpendicular at angle ``theta_0``,
+    :math:`\int r\,dA = \frac{h^3}{3}\int \sec^3(\theta - \theta_0)\,d\theta`, integrated in
+    closed form. All edges of all polygons at once.
     """
-    poly = np.asarray(poly, dtype=np.float64)
-    x, yv = poly[:, 0], poly[:, 1]
-    cross = x * np.roll(yv, -1) - np.roll(x, -1) * yv
-    area = 0.5 * cross.sum()
-    if point is None:
-        point = np.array(
-            [np.sum((x + np.roll(x, -1)) * cross), np.sum((yv + np.roll(yv, -1)) * cross)]
-        ) / (6.0 * area)
-    q = poly - point
-    total = 0.0
-    for i in range(len(q)):
-        p0, p1 = q[i], q[(i + 1) % len(q)]
-        d = p1 - p0
-        length = math.hypot(*d)
-        if length == 0.0:
-            continue
-        tdir = d / length
-        nrm = np.array([tdir[1], -tdir[0]])
-        h = float(nrm @ p0)
-        if abs(h) < 1e-300:
-            continue
-        a0, a1 = float(tdir @ p0) / h, float(tdir @ p1) / h
-        # signed angle from the foot of the perpendicular
-        total += h**3 / 3.0 * (_sec3_integral(math.atan(a1)) - _sec3_integral(math.atan(a0)))
-    return abs(total) / abs(area)
+    corners = np.asarray(corners, dtype=np.float64).reshape(-1, 2)
+    ptr = np.asarray(ptr, dtype=np.int64)
+    m = len(ptr) - 1
+    owner = np.repeat(np.arange(m), np.diff(ptr))
+    nxt = np.arange(len(corners)) + 1
+    nxt[ptr[1:] - 1] = ptr[:-1]  # the last corner of a polygon closes onto its first
+    x, y = corners[:, 0], corners[:, 1]
+    xn, yn = x[nxt], y[nxt]
+    cross = x * yn - xn * y
+    area = 0.5 * np.bincount(owner, cross, m)
+    if points is None:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            points = np.stack(
+                [
+                    np.bincount(owner, (x + xn) * cross, m),
+                    np.bincount(owner, (y + yn) * cross, m),
+                ],
+                axis=1,
+            ) / (6.0 * area[:, None])
+    q0 = corners - points[owner]
+    q1 = corners[nxt] - points[owner]
+    d = q1 - q0
+    length = np.hypot(d[:, 0], d[:, 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = d / length[:, None]
+        h = t[:, 1] * q0[:, 0] - t[:, 0] * q0[:, 1]  # signed distance of the edge line
+        a0 = np.einsum("ij,ij->i", t, q0) / h
+        a1 = np.einsum("ij,ij->i", t, q1) / h
+        part = h**3 / 3.0 * (_sec3_antiderivative(a1) - _sec3_antiderivative(a0))
+    part = np.where((length > 0.0) & (np.abs(h) >= 1e-300), part, 0.0)
+    return np.abs(np.bincount(owner, part, m)) / np.abs(area)
+
+
+def mean_distance_polygon(poly: np.ndarray, point: np.ndarray | None = None) -> float:
+    """Mean distance of one convex polygon ``(k, 2)`` to ``point`` (default its centroid) [m];
+    see :func:`mean_distance_polygons`."""
+    poly = np.asarray(poly, dtype=np.float64).reshape(-1, 2)
+    pts = None if point is None else np.asarray(point, dtype=np.float64).reshape(1, 2)
+    return float(mean_distance_polygons(poly, np.array([0, len(poly)]), pts)[0])
 
 
 def torsion_coefficient(interfaces: Interfaces) -> np.ndarray:
@@ -262,12 +285,7 @@ def torsion_coefficient(interfaces: Interfaces) -> np.ndarray:
     (m,) float
     """
     _, y = interface_vertices(interfaces)
-    return np.array(
-        [
-            mean_distance_polygon(y[interfaces.poly_ptr[k] : interfaces.poly_ptr[k + 1]])
-            for k in range(interfaces.n_interfaces)
-        ]
-    )
+    return mean_distance_polygons(y, interfaces.poly_ptr)
 
 
 def interface_rectangles(interfaces: Interfaces, rel_tol: float = 1e-6):
