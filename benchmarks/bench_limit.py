@@ -14,15 +14,20 @@ Usage::
 Speed targets of issue 4: a Table 2 wall (about 300 blocks) in under 1 s, 10,000 blocks in
 under 60 s on 2 cores. Times are wall-clock on a shared machine: compare ratios within a run.
 
-Measured (2 shared cores, load ~4, vertex model, Clarabel 0.11 with QDLDL, tol 1e-9):
-85 blocks 0.03 s, 263 blocks 0.26 s, 981 blocks 3.9-5.4 s, 3031 blocks 54 s, 9871 blocks
-(29,260 interfaces, 117,040 cones) 201 s of Clarabel (206 s for assembly + compile + solve,
-plus 17 s of interface detection), lambda = 0.026. 35-40 interior-point iterations at every
-size; the time per iteration follows the fill of the KKT factorisation, so the 60 s target
-for 10,000 blocks is missed by about 3.5x. ``faer`` (2 threads or 1) was 4-6x slower than
-QDLDL, SCS needed 9,000 iterations (48 s at 981 blocks) and the kinematic (velocity) form is
-only about 25 % faster; a supernodal LDL^T with nested-dissection ordering (Pardiso, MOSEK,
-CHOLMOD) is the remedy.
+Measured 2026-11-21 (2 cores, the other core busy with a DEM run; vertex model, Clarabel
+0.11.1 with QDLDL, tol 1e-9): 263 blocks 0.23 s, 981 blocks 2.3 s, 3,031 blocks 19.5 s, 9,871
+blocks (29,260 interfaces, 117,040 cones) 56-60 s of Clarabel and 59-62 s for assembly +
+compilation + Clarabel + certificate (plus 6.3 s to build the wall and find its interfaces),
+lambda = 0.02565. 22-65 interior-point iterations; the time per iteration follows the fill of
+the KKT factorisation (~n^1.5, a planar block graph). Changes that took the 10,000-block wall
+from 206 s (session 1, loaded machine) to about 60 s: the p >= 0 rows implied by the cones
+left out (-13 %), Clarabel's iterative refinement off for the vertex model unless a solve is
+inaccurate (-15 %), and the torsion coefficients vectorised (assembly 3.4 s -> 0.4 s). Tried
+and rejected: ``faer`` (1 or 2 threads: 1.3-3x slower than QDLDL here), the kinematic
+(velocity) form (no faster: the same block graph is factorised), per-block force scaling (fewer
+iterations but Clarabel stops early, 1e-3 off in lambda), SCS (thousands of iterations), looser
+tolerances (1e-7: 21 instead of 22 iterations). A supernodal LDL^T with nested dissection
+(Pardiso, MOSEK, CHOLMOD) would be the next step; the Clarabel wheel has none.
 """
 
 from __future__ import annotations
