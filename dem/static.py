@@ -150,8 +150,8 @@ class StaticSettings:
         ``StaticResult.n_loose_steps``. None: 1e-4 for the fibre law, ``tolerance`` (no loose
         step) for the resultant law, where loosely converged steps committed plastic states
         from which no shorter step converged (seed 001 S6 and S1-S2-S3 with return walls as
-        blocks stopped at 0.121 and 0.143; without loose steps they reach their plateaus at
-        0.159 and 0.166).
+        blocks stopped at 0.121 and 0.143; without loose steps they go on to 0.159 and 0.166,
+        where their paths flatten).
     tangent_floor : float or None
         Fraction of the elastic stiffness kept by yielded components of the iteration matrix
         (the residual uses the exact law, so the converged path does not depend on it). None:
@@ -519,6 +519,8 @@ class _Model:
         self.tangent_floor = s.tangent_floor
         if s.tangent_floor is None:
             self.tangent_floor = 1e-4 if s.interface_model == "resultant" else 1e-9
+        self.dead_norm = float(np.linalg.norm(self.F_dead))
+        self.live_norm = float(np.linalg.norm(self.F_live))
         self.accept_tolerance = s.accept_tolerance
         if s.accept_tolerance is None:
             self.accept_tolerance = s.tolerance if s.interface_model == "resultant" else 1e-4
@@ -1081,9 +1083,13 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         slope = dlam / dc
         if slope0 is None:
             slope0 = max(lam / (ctrl[-1] - ctrl[0]), 1e-300)
-        # a loose step's lambda carries an error of order accept_tolerance, which on a short
-        # step can exceed the true increment: it neither counts towards the plateau nor resets it
-        if out.loose:
+        # A step's lambda carries an error of order the residual tolerance it met (relative
+        # to |F_D| + lambda |F_L|); on a short step that error can exceed the increment a
+        # plateau allows, and noise would end the analysis on a path still rising. Such a step
+        # (and any loose one) neither counts towards the plateau nor resets it.
+        tol = model.accept_tolerance if out.loose else settings.tolerance
+        lam_noise = tol * (model.dead_norm + abs(lam) * model.live_norm) / model.live_norm
+        if out.loose or settings.plateau_slope * slope0 * dc <= 10.0 * lam_noise:
             pass
         elif slope < settings.plateau_slope * slope0:
             n_plateau += 1
