@@ -235,7 +235,13 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
     if sp_.model == "vertex" and "iterative_refinement_enable" not in settings.clarabel:
         try:
             status = _run_clarabel(
-                sp_.problem, settings, "solver", MSG_INFEASIBLE, MSG_UNBOUNDED, False, False
+                sp_.problem,
+                settings,
+                "solver",
+                MSG_INFEASIBLE,
+                MSG_UNBOUNDED,
+                refine=False,
+                warn=False,
             )
             if status == "optimal":
                 return _read_solution(sp_, status, certify, t0)
