@@ -225,6 +225,11 @@ def mean_distance_polygons(
     -------
     (m,) float
 
+    Raises
+    ------
+    ValueError
+        A polygon of zero area.
+
     Notes
     -----
     Fan of triangles from ``y_0``; on each, in polar coordinates about ``y_0`` with the edge
@@ -242,6 +247,9 @@ def mean_distance_polygons(
     xn, yn = x[nxt], y[nxt]
     cross = x * yn - xn * y
     area = 0.5 * np.bincount(owner, cross, m)
+    flat = np.flatnonzero(np.abs(area) <= 1e-300)
+    if flat.size:
+        raise ValueError(f"polygons {flat[:10].tolist()} have zero area (fewer than 3 corners?)")
     if points is None:
         with np.errstate(divide="ignore", invalid="ignore"):
             points = np.stack(

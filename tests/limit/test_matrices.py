@@ -91,3 +91,8 @@ def test_torsion_coefficient_seed_interface():
         d + l1**2 / (2 * l2) * np.log((l2 + d) / l1) + l2**2 / (2 * l1) * np.log((l1 + d) / l2)
     ) / 6
     np.testing.assert_allclose(ct, closed, rtol=1e-12)
+
+
+def test_mean_distance_of_a_degenerate_polygon_raises():
+    with pytest.raises(ValueError, match="zero area"):
+        mean_distance_polygon(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]))
