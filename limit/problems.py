@@ -64,6 +64,7 @@ from limit.matrices import (
     interface_friction,
     interface_rectangles,
     interface_vertices,
+    mean_distance_polygons,
     rocking_constraints,
     torsion_coefficient,
     vertex_force_matrix,
@@ -467,11 +468,11 @@ def build_static_problem(
 
 
 def _rectangle_ct(l1: np.ndarray, l2: np.ndarray) -> np.ndarray:
-    """Mean distance to the centre of ``l1 x l2`` rectangles [m] (closed form)."""
-    d = np.hypot(l1, l2)
-    return (
-        d + l1**2 / (2 * l2) * np.log((l2 + d) / l1) + l2**2 / (2 * l1) * np.log((l1 + d) / l2)
-    ) / 6
+    """Mean distance to the centre of ``l1 x l2`` rectangles [m]."""
+    half = np.stack([l1, l2], axis=1) / 2.0
+    signs = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    corners = (half[:, None, :] * signs).reshape(-1, 2)
+    return mean_distance_polygons(corners, 4 * np.arange(len(half) + 1), np.zeros_like(half))
 
 
 def _bending_torsion(cons, interfaces, length, c_hat, m1_hat, m2_hat, m3_hat, mu_par):

@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from dem.interface_strength.springs import CoulombSpringLaw, SpringInterface, _positive
+from dem.kernels.interface_law import torsion_coefficient
 
 
 class InterfaceStrengthError(RuntimeError):
@@ -57,10 +58,7 @@ def torsion_coefficient_rectangle(l1: float, l2: float) -> float:
     """
     l1 = _positive("l1 (interface side along y1) [m]", l1)
     l2 = _positive("l2 (interface side along y2) [m]", l2)
-    d = math.hypot(l1, l2)
-    term1 = l1**2 / (2.0 * l2) * math.log((l2 + d) / l1)
-    term2 = l2**2 / (2.0 * l1) * math.log((l1 + d) / l2)
-    return (d + term1 + term2) / 6.0
+    return float(torsion_coefficient(l1, l2))
 
 
 def shear_capacities(
