@@ -174,9 +174,11 @@ class StaticSettings:
         Smallest control increment, relative to the first, before giving up a step.
     plateau_slope : float
         A step is on the collapse plateau when ``d lambda / d c`` is below this fraction of
-        the initial secant slope.
+        the initial secant slope (measured back over at least the control length at which
+        the residual tolerance's noise in lambda is a tenth of the allowed rise).
     plateau_steps : int
-        Consecutive plateau steps that end the analysis.
+        Consecutive plateau steps that end the analysis, if they also span this many first
+        control increments.
     softening_drop : float
         End when lambda falls below ``(1 - softening_drop) lambda_max``.
     dead_steps : int
@@ -303,11 +305,15 @@ class StaticResult:
     n_cascades : int
         Brittle cracking cascades (no equilibrium path even for the smallest step): the cracks
         of the failed trial are kept and the path restarts from the last equilibrium.
+    n_arc_steps : int
+        Steps constrained along the direction of the previous increment, after the fixed
+        control ``c`` failed at its smallest step (see :func:`solve_collapse`).
     failure : str
         With ``on_failure="stop"``: the non-convergence message that ended the analysis.
     termination : str
-        ``"plateau"``, ``"softening"``, ``"max_steps"`` or ``"no_convergence"`` (only with
-        ``on_failure="stop"``).
+        ``"plateau"``, ``"softening"``, ``"snap_back"`` (lambda and ``c`` both falling for
+        ``plateau_steps`` steps after the peak), ``"max_steps"`` or ``"no_convergence"`` (only
+        with ``on_failure="stop"``).
     wall_s : float
         Wall time [s].
     settings : dict
@@ -331,6 +337,7 @@ class StaticResult:
     n_iterations: int
     n_loose_steps: int
     n_cascades: int
+    n_arc_steps: int
     failure: str
     termination: str
     wall_s: float
@@ -807,6 +814,7 @@ def _newton(
     floor0=None,
     max_iterations=None,
     guess=None,
+    w=None,
 ):
     """Newton iterations with a damped tangent (Levenberg-Marquardt on the tangent floor).
 
@@ -825,7 +833,9 @@ def _newton(
     fl = np.linalg.norm(model.F_live)
     u = u0.copy()
     lam = lam0
-    c_target = None if dc is None else float(model.w @ u0) + dc
+    if w is None:
+        w = model.w
+    c_target = None if dc is None else float(w @ u0) + dc
     if guess is not None:
         # start from a predicted point (the constraint still counts from u0)
         u = guess[0].copy()
@@ -853,8 +863,11 @@ def _newton(
             A = model.stiffness(D)
             rhs = R
         else:
-            A = model.stiffness(D, bordered=True)
-            rhs = np.concatenate([R, [c_target - model.w @ u]])
+            if w is model.w:
+                A = model.stiffness(D, bordered=True)
+            else:
+                A = _bordered(model.stiffness(D), model.F_live, w)
+            rhs = np.concatenate([R, [c_target - w @ u]])
         sol = model.linear.solve(A, rhs)
         if isinstance(sol, Exception):
             if floor < 1.0:
@@ -878,7 +891,7 @@ def _newton(
         if first or r1 <= r_norm or floor >= 1.0:
             u, lam, f, D, state, trial, R, r_norm = u_new, lam_new, f1, D1, st1, tr1, R1, r1
             first = False
-            if dc is None or abs(c_target - model.w @ u) <= 1e-9 * abs(dc):
+            if dc is None or abs(c_target - w @ u) <= 1e-9 * abs(dc):
                 if best is None or r_norm < best[0]:
                     best = (r_norm, u, lam, f, state, trial, R)
             if floor > floor_min:
@@ -896,6 +909,16 @@ def _newton(
         r_b, u_b, lam_b, f_b, st_b, tr_b, R_b = best
         return _Newton(True, u_b, lam_b, f_b, st_b, tr_b, n_iter, R_b, floor, loose=True)
     return _Newton(False, u, lam, f, state, trial, n_iter, R, floor)
+
+
+def _secant_slope(lams: list, ctrl: list, window: float) -> float | None:
+    """``d lambda / d c`` from the last point back to the latest one at least ``window`` [m]
+    of control behind it; None if the path is shorter."""
+    c_end = ctrl[-1]
+    for j in range(len(ctrl) - 2, -1, -1):
+        if c_end - ctrl[j] >= window:
+            return (lams[-1] - lams[j]) / (c_end - ctrl[j])
+    return None
 
 
 def _newton_dead(model: _Model, settings: StaticSettings):
@@ -964,6 +987,17 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
 
     with the consistent tangent ``K_t = H^T D H`` of the interface laws.
 
+    The control is ``w = F_L / |F_L|_1`` (the live-load-weighted mean displacement) until a step
+    fails even at ``min_step_ratio`` times its first size away from a plateau. Near some peaks
+    the path turns in ``c`` or a local mechanism forms that ``c`` hardly measures; Newton then
+    keeps crossing a joint's kink (seed 001 S15 with return walls, resultant law: the step
+    shrank to 1e-4 of the first while lambda still rose at 1.5 % of the initial slope). From
+    there on ``w`` is the unit direction of the previous increment (the updated normal plane
+    of Riks' method), with steps measured in the length of the first increment; this follows
+    the path through limit points and snap-backs (S15 then ends on a plateau at 0.1925, 0.6 %
+    above where it stalled). The plateau slope is taken over a stretch of path long enough to
+    resolve the tolerance noise, and a plateau must span ``plateau_steps`` first increments.
+
     Limitations found on the seed 001 specimens: kinematics are small-displacement, so the
     fibre law's rocking uplift against immovable supports (fixed columns) builds unbounded
     arching. The resultant law has no uplift (its hinges rotate about the joint centroid), so
@@ -999,6 +1033,8 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     peak = dict(lam=0.0, u=u.copy(), f=f_dead.copy(), state=model.state.copy())
     slope0 = None
     n_plateau = 0
+    c_plateau = 0.0
+    n_back = 0
     termination = "max_steps"
     last_du = np.zeros_like(u)
     n_steps = 0
@@ -1009,6 +1045,12 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     failure = ""
     last_dlam = 0.0
     last_dc = 0.0
+    # constraint of the steps: the fixed control w until a step fails at the smallest size,
+    # then the direction of the last increment (updated normal plane, StaticSettings notes)
+    w_step = model.w
+    dc_ref = dc0
+    du_norm_first = 0.0  # length of the first increment: the step unit along the path
+    n_arc = 0
     while n_steps < settings.max_steps:
         out = None
         if model.predictor and last_dc > 0:
@@ -1023,17 +1065,18 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
                 floor0=floor,
                 guess=(u + scale * last_du, lam + scale * last_dlam),
                 max_iterations=settings.target_iterations,
+                w=w_step,
             )
         if out is None or not out.converged:
             if out is not None:
                 n_iter += out.iterations
-            out = _newton(model, settings, u, lam, dc=dc, floor0=floor)
+            out = _newton(model, settings, u, lam, dc=dc, floor0=floor, w=w_step)
         if not out.converged:
             last_dc = 0.0
             if dc >= 0.5 * dc_cascade * (1 + 1e-12):
                 dc_cascade = dc
             dc *= 0.5
-            if dc < settings.min_step_ratio * dc0:
+            if dc < settings.min_step_ratio * dc_ref:
                 # the smallest step fails: that is the collapse only if the path was already
                 # on the plateau for a while (else report the failure, not a false peak)
                 if slope0 is not None and n_plateau >= max(1, settings.plateau_steps // 2):
@@ -1050,6 +1093,18 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
                     n_cascades += 1
                     logger.info("cracking cascade at lambda = %.6g: cracks kept", lam)
                     dc = dc_cascade
+                    continue
+                du_norm = float(np.linalg.norm(last_du))
+                if w_step is model.w and du_norm_first > 0 and du_norm > 0:
+                    # the path turns away from the fixed control (a limit point in c, or a
+                    # local mechanism the load-weighted mean hardly sees): follow it along
+                    # the normal plane of its last increment instead
+                    logger.info("control switched to the path direction at lambda = %.6g", lam)
+                    w_step = last_du / du_norm
+                    dc_ref = du_norm_first
+                    dc = dc_cascade = dc_ref
+                    dc_max = settings.max_step_factor * dc_ref
+                    last_dc = 0.0
                     continue
                 blk, dof = model.block_of_dof(int(np.argmax(np.abs(out.residual))))
                 changing = np.flatnonzero(out.state != model.state)
@@ -1074,32 +1129,48 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         last_du = u_new - u
         dlam = lam_new - lam
         last_dlam, last_dc = dlam, dc
+        if n_steps == 1:
+            du_norm_first = float(np.linalg.norm(last_du))
+        if w_step is not model.w:
+            n_arc += 1
+            w_step = last_du / np.linalg.norm(last_du)
         u, lam = u_new, lam_new
         lams.append(lam)
         ctrl.append(float(model.w @ u))
         us.append(u.copy())
         if lam > peak["lam"]:
             peak = dict(lam=lam, u=u.copy(), f=f.copy(), state=state.copy())
-        slope = dlam / dc
         if slope0 is None:
             slope0 = max(lam / (ctrl[-1] - ctrl[0]), 1e-300)
         # A step's lambda carries an error of order the residual tolerance it met (relative
-        # to |F_D| + lambda |F_L|); on a short step that error can exceed the increment a
-        # plateau allows, and noise would end the analysis on a path still rising. Such a step
-        # (and any loose one) neither counts towards the plateau nor resets it.
+        # to |F_D| + lambda |F_L|): the slope is measured over the last stretch of the path
+        # long enough that this noise cannot fake or hide a plateau (the step itself, unless
+        # it is short). Without such a stretch, or after a loose step, the count is kept.
         tol = model.accept_tolerance if out.loose else settings.tolerance
         lam_noise = tol * (model.dead_norm + abs(lam) * model.live_norm) / model.live_norm
-        if out.loose or settings.plateau_slope * slope0 * dc <= 10.0 * lam_noise:
+        window = 10.0 * lam_noise / (settings.plateau_slope * slope0)
+        slope = _secant_slope(lams, ctrl, window)
+        if out.loose or slope is None:
             pass
         elif slope < settings.plateau_slope * slope0:
             n_plateau += 1
+            c_plateau += ctrl[-1] - ctrl[-2]
         else:
             n_plateau = 0
-        if n_plateau >= settings.plateau_steps and peak["lam"] > 0:
+            c_plateau = 0.0
+        # the plateau must also be long: plateau_steps first increments of control at least
+        long = c_plateau >= settings.plateau_steps * dc0
+        if n_plateau >= settings.plateau_steps and long and peak["lam"] > 0:
             termination = "plateau"
             break
         if lam < (1.0 - settings.softening_drop) * peak["lam"]:
             termination = "softening"
+            break
+        # past a limit point the path may turn back in c with lambda falling (a snap-back:
+        # the failing part localises while the rest unloads): the peak is passed
+        n_back = n_back + 1 if (ctrl[-1] < ctrl[-2] and dlam < 0.0) else 0
+        if n_back >= settings.plateau_steps and peak["lam"] - lam > 10.0 * lam_noise:
+            termination = "snap_back"
             break
         # a loose step stalled at a kink of the law, which a shorter step does not remove
         growth = 1.0 if out.loose else math.sqrt(settings.target_iterations / max(its, 1))
@@ -1151,6 +1222,7 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         n_iterations=n_iter,
         n_loose_steps=n_loose,
         n_cascades=n_cascades,
+        n_arc_steps=n_arc,
         failure=failure,
         termination=termination,
         wall_s=wall,

@@ -123,6 +123,26 @@ def test_wall_with_fixed_column_reaches_its_mechanism_whatever_the_step():
     assert lam[1] <= upper
 
 
+def test_path_followed_past_a_stall_of_the_fixed_control():
+    # seed 001 S15 with return walls of blocks, resultant law: at load step 0.01 the fixed
+    # control c stalls near the peak (step cut to 1e-4 of the first with lambda still rising),
+    # at 0.02 it does not. The path-direction control must carry the first run to the same
+    # plateau as the second (rtol 1 %), below the associated bound of the same scene.
+    from dem.scenes.seed001_walls import SPECIMENS
+    from limit.problems import LimitSettings
+    from limit.solve import limit_analysis
+
+    scene = SPECIMENS["restrepo-S15"].build(return_walls="blocks")
+    stalled, direct = (
+        solve_collapse(scene, StaticSettings(mu=0.7, load_step=step, on_failure="stop"))
+        for step in (0.01, 0.02)
+    )
+    assert stalled.n_arc_steps > 0 and direct.n_arc_steps == 0
+    assert stalled.termination == direct.termination == "plateau"
+    np.testing.assert_allclose(stalled.lambda_max, direct.lambda_max, rtol=1e-2)
+    assert stalled.lambda_max <= limit_analysis(scene, LimitSettings()).lam
+
+
 def test_unsupported_block_is_named():
     # a block floating apart from the base: singular stiffness before any load
     blocks = [
