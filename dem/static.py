@@ -312,8 +312,8 @@ class StaticResult:
         With ``on_failure="stop"``: the non-convergence message that ended the analysis.
     termination : str
         ``"plateau"``, ``"softening"``, ``"snap_back"`` (lambda and ``c`` both falling for
-        ``plateau_steps`` steps after the peak), ``"max_steps"`` or ``"no_convergence"`` (only
-        with ``on_failure="stop"``).
+        ``plateau_steps`` steps, lambda below the peak by more than a plateau may rise),
+        ``"max_steps"`` or ``"no_convergence"`` (only with ``on_failure="stop"``).
     wall_s : float
         Wall time [s].
     settings : dict
@@ -1167,9 +1167,13 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
             termination = "softening"
             break
         # past a limit point the path may turn back in c with lambda falling (a snap-back:
-        # the failing part localises while the rest unloads): the peak is passed
+        # the failing part localises while the rest unloads). Near a kink it also meanders
+        # back and forth at a nearly constant lambda (S5 with return walls, resultant law:
+        # down by 1.2e-5 before rising by 8 %), so it counts as passing the peak only once
+        # lambda is lower by more than a plateau may rise (plateau_slope x plateau_steps dc0)
         n_back = n_back + 1 if (ctrl[-1] < ctrl[-2] and dlam < 0.0) else 0
-        if n_back >= settings.plateau_steps and peak["lam"] - lam > 10.0 * lam_noise:
+        drop = max(10.0 * lam_noise, settings.plateau_slope * slope0 * settings.plateau_steps * dc0)
+        if n_back >= settings.plateau_steps and peak["lam"] - lam > drop:
             termination = "snap_back"
             break
         # a loose step stalled at a kink of the law, which a shorter step does not remove
