@@ -33,6 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from dem.collapse_criteria import CollapseCriteria
 from dem.geometry.interfaces import Interfaces
 from dem.kernels.fibre_law import fibre_law
 from dem.kernels.interface_law import (
@@ -911,16 +912,6 @@ def _newton(
     return _Newton(False, u, lam, f, state, trial, n_iter, R, floor)
 
 
-def _secant_slope(lams: list, ctrl: list, window: float) -> float | None:
-    """``d lambda / d c`` from the last point back to the latest one at least ``window`` [m]
-    of control behind it; None if the path is shorter."""
-    c_end = ctrl[-1]
-    for j in range(len(ctrl) - 2, -1, -1):
-        if c_end - ctrl[j] >= window:
-            return (lams[-1] - lams[j]) / (c_end - ctrl[j])
-    return None
-
-
 def _newton_dead(model: _Model, settings: StaticSettings):
     """Equilibrium under the dead load (load control, ``dead_steps`` increments)."""
     u = np.zeros(model.n_free)
@@ -1012,8 +1003,6 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     logger.debug("dead load: %d iterations", n_iter)
 
     lam = 0.0
-    lams = [0.0]
-    ctrl = [float(model.w @ u)]
     us = [u.copy()]
     # first increment: the elastic control displacement of d lambda = load_step * lambda_scale
     _, D, _, _, _ = model.evaluate(model.full(u), 1.0)  # elastic stiffness
@@ -1031,10 +1020,13 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     dc = dc0
     dc_max = settings.max_step_factor * dc0
     peak = dict(lam=0.0, u=u.copy(), f=f_dead.copy(), state=model.state.copy())
-    slope0 = None
-    n_plateau = 0
-    c_plateau = 0.0
-    n_back = 0
+    criteria = CollapseCriteria(
+        float(model.w @ u),
+        dc0,
+        settings.plateau_slope,
+        settings.plateau_steps,
+        settings.softening_drop,
+    )
     termination = "max_steps"
     last_du = np.zeros_like(u)
     n_steps = 0
@@ -1079,7 +1071,7 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
             if dc < settings.min_step_ratio * dc_ref:
                 # the smallest step fails: that is the collapse only if the path was already
                 # on the plateau for a while (else report the failure, not a false peak)
-                if slope0 is not None and n_plateau >= max(1, settings.plateau_steps // 2):
+                if criteria.near_plateau:
                     termination = "plateau"
                     logger.warning(
                         "step cut below the minimum on the plateau at lambda = %.6g: "
@@ -1135,46 +1127,15 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
             n_arc += 1
             w_step = last_du / np.linalg.norm(last_du)
         u, lam = u_new, lam_new
-        lams.append(lam)
-        ctrl.append(float(model.w @ u))
         us.append(u.copy())
         if lam > peak["lam"]:
             peak = dict(lam=lam, u=u.copy(), f=f.copy(), state=state.copy())
-        if slope0 is None:
-            slope0 = max(lam / (ctrl[-1] - ctrl[0]), 1e-300)
-        # A step's lambda carries an error of order the residual tolerance it met (relative
-        # to |F_D| + lambda |F_L|): the slope is measured over the last stretch of the path
-        # long enough that this noise cannot fake or hide a plateau (the step itself, unless
-        # it is short). Without such a stretch, or after a loose step, the count is kept.
+        # lambda is known to the residual tolerance the step met (relative to the loads)
         tol = model.accept_tolerance if out.loose else settings.tolerance
         lam_noise = tol * (model.dead_norm + abs(lam) * model.live_norm) / model.live_norm
-        window = 10.0 * lam_noise / (settings.plateau_slope * slope0)
-        slope = _secant_slope(lams, ctrl, window)
-        if out.loose or slope is None:
-            pass
-        elif slope < settings.plateau_slope * slope0:
-            n_plateau += 1
-            c_plateau += ctrl[-1] - ctrl[-2]
-        else:
-            n_plateau = 0
-            c_plateau = 0.0
-        # the plateau must also be long: plateau_steps first increments of control at least
-        long = c_plateau >= settings.plateau_steps * dc0
-        if n_plateau >= settings.plateau_steps and long and peak["lam"] > 0:
-            termination = "plateau"
-            break
-        if lam < (1.0 - settings.softening_drop) * peak["lam"]:
-            termination = "softening"
-            break
-        # past a limit point the path may turn back in c with lambda falling (a snap-back:
-        # the failing part localises while the rest unloads). Near a kink it also meanders
-        # back and forth at a nearly constant lambda (S5 with return walls, resultant law:
-        # down by 1.2e-5 before rising by 8 %), so it counts as passing the peak only once
-        # lambda is lower by more than a plateau may rise (plateau_slope x plateau_steps dc0)
-        n_back = n_back + 1 if (ctrl[-1] < ctrl[-2] and dlam < 0.0) else 0
-        drop = max(10.0 * lam_noise, settings.plateau_slope * slope0 * settings.plateau_steps * dc0)
-        if n_back >= settings.plateau_steps and peak["lam"] - lam > drop:
-            termination = "snap_back"
+        end = criteria.add(lam, float(model.w @ u), lam_noise, out.loose)
+        if end is not None:
+            termination = end
             break
         # a loose step stalled at a kink of the law, which a shorter step does not remove
         growth = 1.0 if out.loose else math.sqrt(settings.target_iterations / max(its, 1))
@@ -1209,8 +1170,8 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     )
     return StaticResult(
         lambda_max=float(peak["lam"]),
-        pushover_lambda=np.array(lams),
-        pushover_control=np.array(ctrl),
+        pushover_lambda=np.array(criteria.lams),
+        pushover_control=np.array(criteria.ctrl),
         pushover_monitor=np.asarray(monitor_path, dtype=float),
         monitor=mon,
         interface_state=model.state.copy(),

@@ -1,0 +1,111 @@
+"""When a path-following collapse analysis is over: plateau, softening or snap-back.
+
+The path is the sequence of converged points ``(c, lambda)``: ``c = w . u`` the load-weighted
+control displacement [m], ``lambda`` the live-load multiplier. Each point's lambda carries an
+error of order the residual tolerance its step met (``lam_noise``), so slopes are taken over
+stretches of path long enough to resolve that error, not over single short steps.
+"""
+
+from __future__ import annotations
+
+
+class CollapseCriteria:
+    """Ends a collapse analysis from its path (see :func:`dem.static.solve_collapse`).
+
+    Parameters
+    ----------
+    c0 : float
+        Control displacement at the start of the live load [m].
+    dc0 : float
+        First control increment [m]: the length unit of a plateau.
+    plateau_slope : float
+        A stretch is on the plateau when its secant ``d lambda / d c`` is below this fraction
+        of the initial secant slope (that of the first step).
+    plateau_steps : int
+        Consecutive plateau steps that end the analysis, if they also span this many ``dc0``.
+    softening_drop : float
+        End when lambda falls below ``(1 - softening_drop)`` times its peak.
+
+    Attributes
+    ----------
+    lams, ctrl : list of float
+        The path so far, from ``(c0, 0)``.
+    peak : float
+        Largest lambda so far.
+    """
+
+    def __init__(
+        self,
+        c0: float,
+        dc0: float,
+        plateau_slope: float,
+        plateau_steps: int,
+        softening_drop: float,
+    ):
+        self.dc0 = dc0
+        self.plateau_slope = plateau_slope
+        self.plateau_steps = plateau_steps
+        self.softening_drop = softening_drop
+        self.lams = [0.0]
+        self.ctrl = [float(c0)]
+        self.peak = 0.0
+        self.slope0 = None
+        self.n_plateau = 0
+        self.c_plateau = 0.0
+        self.n_back = 0
+
+    @property
+    def near_plateau(self) -> bool:
+        """At least half the plateau steps counted: a step that then fails is the collapse."""
+        return self.slope0 is not None and self.n_plateau >= max(1, self.plateau_steps // 2)
+
+    def secant_slope(self, window: float) -> float | None:
+        """``d lambda / d c`` from the last point back to the latest one at least ``window``
+        [m] of control behind it; None if the path is shorter."""
+        c_end = self.ctrl[-1]
+        for j in range(len(self.ctrl) - 2, -1, -1):
+            if c_end - self.ctrl[j] >= window:
+                return (self.lams[-1] - self.lams[j]) / (c_end - self.ctrl[j])
+        return None
+
+    def add(self, lam: float, c: float, lam_noise: float, loose: bool = False) -> str | None:
+        """Record a converged point; return ``"plateau"``, ``"softening"``, ``"snap_back"``
+        or None (go on).
+
+        ``lam_noise`` is the error of lambda at this point (tolerance times the load norms);
+        a ``loose`` point (converged to a looser tolerance) neither counts towards a plateau
+        nor resets it.
+        """
+        dlam = lam - self.lams[-1]
+        self.lams.append(float(lam))
+        self.ctrl.append(float(c))
+        self.peak = max(self.peak, lam)
+        if self.slope0 is None:
+            self.slope0 = max(lam / (c - self.ctrl[0]), 1e-300)
+        limit = self.plateau_slope * self.slope0
+        # the stretch over which the noise in lambda is a tenth of the rise a plateau allows
+        slope = self.secant_slope(10.0 * lam_noise / limit)
+        if loose or slope is None:
+            pass
+        elif slope < limit:
+            self.n_plateau += 1
+            self.c_plateau += self.ctrl[-1] - self.ctrl[-2]
+        else:
+            self.n_plateau = 0
+            self.c_plateau = 0.0
+        long = self.c_plateau >= (1.0 - 1e-9) * self.plateau_steps * self.dc0
+        if self.n_plateau >= self.plateau_steps and long and self.peak > 0:
+            return "plateau"
+        if lam < (1.0 - self.softening_drop) * self.peak:
+            return "softening"
+        # Past a limit point the path may turn back in c with lambda falling (a snap-back:
+        # the failing part localises while the rest unloads). Near a kink it also meanders
+        # back and forth at a nearly constant lambda (seed 001 S5 with return walls, resultant
+        # law: down by 1.2e-5, then up by 8 %), so it has passed the peak only once lambda is
+        # lower by more than a plateau may rise.
+        backwards = self.ctrl[-1] < self.ctrl[-2] and dlam < 0.0
+        self.n_back = self.n_back + 1 if backwards else 0
+        drop = max(10.0 * lam_noise, limit * self.plateau_steps * self.dc0)
+        if self.n_back >= self.plateau_steps and self.peak - lam > drop:
+            return "snap_back"
+        return None

@@ -1,0 +1,90 @@
+"""End of a collapse analysis on synthetic (c, lambda) paths with known answers."""
+
+import numpy as np
+
+from dem.collapse_criteria import CollapseCriteria
+
+DC0 = 1e-4  # first control increment [m]
+SLOPE0 = 100.0  # initial slope d lambda / d c [1/m]: the first step reaches lambda = 0.01
+NOISE = 1e-6  # error of lambda at every point
+
+
+def _criteria():
+    return CollapseCriteria(0.0, DC0, plateau_slope=2e-3, plateau_steps=4, softening_drop=0.2)
+
+
+def _run(criteria, cs, lams):
+    """Feed the path; the index of the point that ended it and the reason (or None)."""
+    for i, (c, lam) in enumerate(zip(cs, lams, strict=True)):
+        end = criteria.add(lam, c, NOISE)
+        if end is not None:
+            return i, end
+    return None, None
+
+
+def test_elastic_perfectly_plastic_path_ends_after_four_plateau_steps():
+    # lambda = min(SLOPE0 c, 0.1): the flat part starts at step 10; steps of DC0
+    cs = DC0 * np.arange(1, 40)
+    i, end = _run(_criteria(), cs, np.minimum(SLOPE0 * cs, 0.1))
+    assert end == "plateau"
+    assert i == 10 + 4 - 1
+
+
+def test_short_steps_end_only_after_the_plateau_spans_four_first_steps():
+    # the same flat part walked in steps of DC0 / 100: four flat steps are not enough, four
+    # DC0 of flat path are, counted once the secant over the noise-resolving stretch
+    # (10 NOISE / (2e-3 SLOPE0) = DC0 / 2) no longer reaches back into the rise
+    cs = np.concatenate([DC0 * np.arange(1, 11), 10 * DC0 + 0.01 * DC0 * np.arange(1, 1000)])
+    i, end = _run(_criteria(), cs, np.minimum(SLOPE0 * cs, 0.1))
+    assert end == "plateau"
+    flat = cs[i] - 10 * DC0
+    assert abs(flat - 4.5 * DC0) <= 0.02 * DC0
+
+
+def test_slow_rise_with_noise_is_not_a_plateau():
+    # still rising at 1 % of the initial slope, in short steps with noise of NOISE: the
+    # secant over a noise-resolving stretch sees the rise, single steps would not
+    rng = np.random.default_rng(0)
+    cs = np.concatenate([DC0 * np.arange(1, 11), 10 * DC0 + 0.01 * DC0 * np.arange(1, 3000)])
+    lams = np.where(cs <= 10 * DC0, SLOPE0 * cs, 0.1 + 0.01 * SLOPE0 * (cs - 10 * DC0))
+    lams = lams + NOISE * rng.uniform(-1, 1, len(cs))
+    i, end = _run(_criteria(), cs, lams)
+    assert end is None
+
+
+def test_meander_at_constant_lambda_is_not_a_snap_back():
+    # back in c for 8 steps with lambda down by 1e-5 (less than a plateau may rise: 2e-3 *
+    # SLOPE0 * 4 DC0 = 8e-5), then up again
+    up = DC0 * np.arange(1, 11)
+    back = up[-1] - 0.01 * DC0 * np.arange(1, 9)
+    again = back[-1] + DC0 * np.arange(1, 6)
+    cs = np.concatenate([up, back, again])
+    lams = np.concatenate(
+        [SLOPE0 * up, 0.1 - 1.25e-6 * np.arange(1, 9), 0.1 - 1e-5 + 0.005 * np.arange(1, 6)]
+    )
+    i, end = _run(_criteria(), cs, lams)
+    assert end is None
+
+
+def test_snap_back_past_the_peak_ends_the_analysis():
+    # back in c with lambda falling by 5e-5 a step: ends once 4 steps went back and lambda is
+    # below the peak by more than 8e-5
+    up = DC0 * np.arange(1, 11)
+    back = up[-1] - 0.1 * DC0 * np.arange(1, 10)
+    cs = np.concatenate([up, back])
+    lams = np.concatenate([SLOPE0 * up, 0.1 - 5e-5 * np.arange(1, 10)])
+    criteria = _criteria()
+    i, end = _run(criteria, cs, lams)
+    assert end == "snap_back"
+    assert i == 10 + 4 - 1
+    assert criteria.peak == 0.1
+
+
+def test_softening_ends_when_lambda_drops_by_a_fifth():
+    up = DC0 * np.arange(1, 11)
+    down = up[-1] + DC0 * np.arange(1, 40)
+    cs = np.concatenate([up, down])
+    lams = np.concatenate([SLOPE0 * up, 0.1 - 0.0075 * np.arange(1, 40)])
+    i, end = _run(_criteria(), cs, lams)
+    assert end == "softening"
+    assert lams[i] < 0.08 < lams[i - 1]
