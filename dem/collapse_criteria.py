@@ -8,6 +8,8 @@ stretches of path long enough to resolve that error, not over single short steps
 
 from __future__ import annotations
 
+import math
+
 
 class CollapseCriteria:
     """Ends a collapse analysis from its path (see :func:`dem.static.solve_collapse`).
@@ -42,6 +44,15 @@ class CollapseCriteria:
         plateau_steps: int,
         softening_drop: float,
     ):
+        if not (math.isfinite(dc0) and dc0 > 0):
+            raise ValueError(f"dc0 must be a finite positive length [m], got {dc0!r}")
+        if not (0 <= plateau_slope < 1 and 0 <= softening_drop < 1):
+            raise ValueError(
+                "plateau_slope and softening_drop must lie in [0, 1), got "
+                f"{plateau_slope!r} and {softening_drop!r}"
+            )
+        if int(plateau_steps) != plateau_steps or plateau_steps < 1:
+            raise ValueError(f"plateau_steps must be an integer >= 1, got {plateau_steps!r}")
         self.dc0 = dc0
         self.plateau_slope = plateau_slope
         self.plateau_steps = plateau_steps
@@ -84,7 +95,8 @@ class CollapseCriteria:
             self.slope0 = max(lam / (c - self.ctrl[0]), 1e-300)
         limit = self.plateau_slope * self.slope0
         # the stretch over which the noise in lambda is a tenth of the rise a plateau allows
-        slope = self.secant_slope(10.0 * lam_noise / limit)
+        # (plateau_slope = 0: no rise is allowed, the step itself is the stretch)
+        slope = self.secant_slope(10.0 * lam_noise / limit if limit > 0 else 0.0)
         if loose or slope is None:
             pass
         elif slope < limit:

@@ -1,6 +1,7 @@
 """End of a collapse analysis on synthetic (c, lambda) paths with known answers."""
 
 import numpy as np
+import pytest
 
 from dem.collapse_criteria import CollapseCriteria
 
@@ -88,3 +89,19 @@ def test_softening_ends_when_lambda_drops_by_a_fifth():
     i, end = _run(_criteria(), cs, lams)
     assert end == "softening"
     assert lams[i] < 0.08 < lams[i - 1]
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        (dict(dc0=0.0), "dc0"),
+        (dict(dc0=float("nan")), "dc0"),
+        (dict(plateau_slope=-1e-3), "plateau_slope"),
+        (dict(softening_drop=1.5), "softening_drop"),
+        (dict(plateau_steps=0), "plateau_steps"),
+    ],
+)
+def test_bad_settings_are_refused(kw, match):
+    args = dict(c0=0.0, dc0=DC0, plateau_slope=2e-3, plateau_steps=4, softening_drop=0.2)
+    with pytest.raises(ValueError, match=match):
+        CollapseCriteria(**{**args, **kw})
