@@ -124,18 +124,19 @@ def test_wall_with_fixed_column_reaches_its_mechanism_whatever_the_step():
 
 
 def test_path_followed_past_a_stall_of_the_fixed_control():
-    # seed 001 S15 with return walls of blocks, resultant law: at load step 0.01 the fixed
-    # control c stalls near the peak (step cut to 1e-4 of the first with lambda still rising),
-    # at 0.02 it does not. The path-direction control must carry the first run to the same
-    # plateau as the second (rtol 1 %), below the associated bound of the same scene.
+    # seed 001 S15 with return walls of blocks, resultant law: with a tangent floor of 1e-6
+    # the fixed control c stalls at 0.1726 (step cut to 1e-4 of the first, lambda still
+    # rising); at the default floor and load step 0.02 it does not stall. The path-direction
+    # control must carry the first run to the plateau of the second (rtol 1 %), below the
+    # associated bound of the same scene.
     from dem.scenes.seed001_walls import SPECIMENS
     from limit.problems import LimitSettings
     from limit.solve import limit_analysis
 
     scene = SPECIMENS["restrepo-S15"].build(return_walls="blocks")
     stalled, direct = (
-        solve_collapse(scene, StaticSettings(mu=0.7, load_step=step, on_failure="stop"))
-        for step in (0.01, 0.02)
+        solve_collapse(scene, StaticSettings(mu=0.7, on_failure="stop", **kw))
+        for kw in (dict(tangent_floor=1e-6), dict(load_step=0.02))
     )
     assert stalled.n_arc_steps > 0 and direct.n_arc_steps == 0
     assert stalled.termination == direct.termination == "plateau"
