@@ -68,7 +68,7 @@ class CollapseCriteria:
     @property
     def near_plateau(self) -> bool:
         """At least half the plateau steps counted: a step that then fails is the collapse."""
-        return self.slope0 is not None and self.n_plateau >= max(1, self.plateau_steps // 2)
+        return self.n_plateau >= max(1, self.plateau_steps // 2)
 
     def secant_slope(self, window: float) -> float | None:
         """``d lambda / d c`` from the last point back to the latest one at least ``window``

@@ -155,7 +155,10 @@ class StaticSettings:
         where their paths flatten).
     tangent_floor : float or None
         Fraction of the elastic stiffness kept by yielded components of the iteration matrix
-        (the residual uses the exact law, so the converged path does not depend on it). None:
+        (the residual uses the exact law, so every converged point is an equilibrium of it;
+        where frictional equilibrium is not unique the path taken can still depend on the
+        floor: seed 001 S1-S2-S3 with return walls, resultant law, 0.1738 / 0.1677 / 0.1743 for
+        1e-3 / 1e-4 / 1e-5, S15 within 0.06 %). None:
         1e-4 for the resultant law, 1e-9 for the fibre law. With a near-zero floor, blocks
         held only by yielded joints make the resultant law's tangent nearly singular and the
         Newton steps huge: on seed 001's S11 1e-9 stalls the path, while 1e-6 to 1e-3 give the
@@ -830,8 +833,8 @@ def _newton(
     """
     floor_min = model.tangent_floor
     floor = floor_min if floor0 is None else max(floor0, floor_min)
-    ref = np.linalg.norm(model.F_dead) + 1e-300
-    fl = np.linalg.norm(model.F_live)
+    ref = model.dead_norm + 1e-300
+    fl = model.live_norm
     u = u0.copy()
     lam = lam0
     if w is None:
@@ -1096,7 +1099,6 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
                     dc_ref = du_norm_first
                     dc = dc_cascade = dc_ref
                     dc_max = settings.max_step_factor * dc_ref
-                    last_dc = 0.0
                     continue
                 blk, dof = model.block_of_dof(int(np.argmax(np.abs(out.residual))))
                 changing = np.flatnonzero(out.state != model.state)
