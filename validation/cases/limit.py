@@ -724,9 +724,7 @@ def run_vs_dem(quick: bool = True):
             "A DEM run that did not collapse (termination `max_steps`, `stalled` or "
             "`no_mechanism`) has no multiplier in `ours`; `dem_lambda_reached` is where its "
             "path ended.",
-            "DEM runs without a collapse: "
-            + (", ".join(failures) if failures else "none")
-            + ".",
+            "DEM runs without a collapse: " + (", ".join(failures) if failures else "none") + ".",
         ]
     )
     return rows, notes
