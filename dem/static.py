@@ -217,6 +217,10 @@ class StaticSettings:
         control increments.
     softening_drop : float
         End when lambda falls below ``(1 - softening_drop) lambda_max``.
+    plateau_rise : float
+        A plateau also needs lambda to have risen by less than this fraction of itself since
+        half the present control displacement (:mod:`dem.collapse_criteria`): slow frictional
+        hardening is not taken for the collapse.
     dead_steps : int
         Increments of the dead load.
     monitor : tuple of (int, int) or None
@@ -253,6 +257,7 @@ class StaticSettings:
     plateau_slope: float = 2e-3
     plateau_steps: int = 4
     softening_drop: float = 0.2
+    plateau_rise: float = 1e-3
     dead_steps: int = 1
     monitor: tuple[int, int] | None = None
     on_failure: str = "raise"
@@ -299,7 +304,13 @@ class StaticSettings:
             low = 2 if name == "fibre_points" else 1
             if isinstance(v, bool) or int(v) != v or v < low:
                 raise ValueError(f"{name} must be an integer >= {low}, got {v!r}")
-        for name in ("tangent_floor", "min_step_ratio", "plateau_slope", "softening_drop"):
+        for name in (
+            "tangent_floor",
+            "min_step_ratio",
+            "plateau_slope",
+            "softening_drop",
+            "plateau_rise",
+        ):
             v = getattr(self, name)
             if name == "tangent_floor" and v is None:
                 continue
@@ -1237,6 +1248,7 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         settings.plateau_slope,
         settings.plateau_steps,
         settings.softening_drop,
+        settings.plateau_rise,
     )
     termination = "max_steps"
     last_du = np.zeros_like(u)
