@@ -21,7 +21,9 @@ import time
 
 from dem.scenes.running_bond_wall import running_bond_wall
 from dem.scenes.seed001_walls import SPECIMENS, restrepo_specimen
-from dem.static import StaticSettings, _factor, _Model, _newton_dead, solve_collapse
+from dem.static import StaticSettings, solve_collapse
+from dem.static.model import Model
+from dem.static.newton import Corrector, factor, solve_dead_load
 
 TARGET_S = 10.0
 
@@ -80,19 +82,20 @@ def scaling(sizes, collapse_max: int) -> None:
         for model in ("resultant", "fibre"):
             settings = StaticSettings(interface_model=model)
             start = time.perf_counter()
-            m = _Model(scene, settings)
+            m = Model(scene, settings)
             setup = time.perf_counter() - start
-            u, _, _ = _newton_dead(m, settings)
+            dead, _ = solve_dead_load(Corrector(m, settings))
+            floor = settings.law_settings.tangent_floor
             reps = 3
             start = time.perf_counter()
             for _ in range(reps):
-                _, D, _, _, _ = m.evaluate(m.full(u))
+                D = m.evaluate(dead.u, floor).law.D
                 m.stiffness(D)
             law = (time.perf_counter() - start) / reps
-            A = m.stiffness(D, bordered=True)
+            A = m.stiffness(D, m.w)
             start = time.perf_counter()
             for _ in range(reps):
-                _factor(A)
+                factor(A)
             lu = (time.perf_counter() - start) / reps
             coll, lam, per = float("nan"), float("nan"), float("nan")
             if scene.n_blocks <= collapse_max:

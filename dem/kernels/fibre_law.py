@@ -10,7 +10,8 @@ each spring follows the elastic-perfectly-plastic Coulomb law of
 :func:`dem.kernels.spring_grid.spring_return_map_one`, and the interface actions are the
 resultants ``N = sum f_n``, ``V = sum f_t``, ``M1 = sum y2 f_n``, ``M2 = -sum y1 f_n``,
 ``M3 = sum (y1 f_t2 - y2 f_t1)``. Rocking, torsion and their interaction follow from the
-springs; no fitted exponent is needed.
+springs; no fitted exponent is needed. An optional compressive strength ``f_c`` caps each
+spring's normal force at ``-f_c a`` (crushing, with a plastic closure kept per spring).
 
 A spring whose tangential force lies on its Coulomb limit to within the relative
 ``KINK_BAND`` counts as sliding in the tangent (not only one beyond it), as in
@@ -30,6 +31,16 @@ STATE_ELASTIC = 0
 STATE_SHEAR = 1
 STATE_FLEXURE = 2
 STATE_DETACHED = 4
+STATE_CRUSHED = 8
+
+# columns of the per-interface parameter rows of the fibre law
+F_KN = 0  # normal stiffness per unit area [Pa/m]
+F_KS = 1  # tangential stiffness per unit area [Pa/m]
+F_MU = 2  # friction coefficient [-]
+F_COHESION = 3  # [Pa]
+F_TENSILE = 4  # tensile strength [Pa]
+F_FC = 5  # compressive strength [Pa]; inf for none
+N_FIBRE_PARAMS = 6
 
 
 @njit(cache=True)
@@ -47,23 +58,7 @@ def on_limit(f_n, f_1, f_2, mu, cohesion_force):
 
 @njit(cache=True)
 def fibre_law_one(
-    q,
-    lo,
-    hi,
-    positions,
-    areas,
-    slip,
-    is_broken,
-    k_n,
-    k_s,
-    mu,
-    cohesion,
-    tensile,
-    floor,
-    out_f,
-    out_slip,
-    out_broken,
-    out_D,
+    q, lo, hi, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
 ):
     """Return mapping of the springs of one interface, resultants and tangent.
 
@@ -73,28 +68,24 @@ def fibre_law_one(
         Relative motion ``(dn, dt1, dt2, phi1, phi2, phi3)`` [m, rad].
     lo, hi : int
         The interface's springs are ``lo:hi``.
-    positions : (n_springs, 2) float64
-        ``(y1, y2)`` about the interface centroid [m].
-    areas : (n_springs,) float64
-        Tributary areas [m^2].
-    slip : (n_springs, 2) float64
-        Plastic slips at the last converged state [m].
+    springs : (n_springs, 3) float64
+        ``(y1, y2)`` about the interface centroid [m] and tributary area [m^2].
+    params : (N_FIBRE_PARAMS,) float64
+        The interface's law, columns ``F_*``: stiffnesses per unit area [Pa/m], friction
+        coefficient [-], cohesion, tensile and compressive strength [Pa] (inf for none).
+    slip : (n_springs, 3) float64
+        Plastic slips and crushing closure at the last converged state [m].
     is_broken : (n_springs,) bool
         Springs that lost their tensile strength.
-    k_n, k_s : float
-        Stiffness per unit area [Pa/m].
-    mu : float
-        Friction coefficient [-].
-    cohesion, tensile : float
-        Cohesion and tensile strength [Pa].
     floor : float
-        Fraction of the elastic stiffness kept by open or sliding springs in the tangent.
-    out_f : (6,) float64
-        Output ``(N, V1, V2, M1, M2, M3)`` [N, N m].
-    out_slip : (n_springs, 2) float64
-        Output slips (only rows ``lo:hi`` are written).
+        Fraction of the elastic stiffness kept by open, sliding or crushed springs in the
+        tangent.
+    out_slip : (n_springs, 3) float64
+        Output slips and closures (only rows ``lo:hi`` are written).
     out_broken : (n_springs,) bool
         Output flags (rows ``lo:hi``).
+    out_f : (6,) float64
+        Output ``(N, V1, V2, M1, M2, M3)`` [N, N m].
     out_D : (6, 6) float64
         Output tangent ``df/dq`` (summed spring tangents).
 
@@ -103,8 +94,15 @@ def fibre_law_one(
     state : int
         ``STATE_DETACHED`` if every spring is open; else ``STATE_FLEXURE`` if open springs
         cover at least half the area, plus ``STATE_SHEAR`` if sliding springs cover at least
-        half the closed area.
+        half the closed area, plus ``STATE_CRUSHED`` if any spring is crushed.
     """
+    k_n = params[F_KN]
+    k_s = params[F_KS]
+    mu = params[F_MU]
+    cohesion = params[F_COHESION]
+    tensile = params[F_TENSILE]
+    f_c = params[F_FC]
+    crushed = False
     for i in range(6):
         out_f[i] = 0.0
         for j in range(6):
@@ -116,12 +114,19 @@ def fibre_law_one(
     b1 = np.zeros(6)
     b2 = np.zeros(6)
     for s in range(lo, hi):
-        y1 = positions[s, 0]
-        y2 = positions[s, 1]
-        a = areas[s]
+        y1 = springs[s, 0]
+        y2 = springs[s, 1]
+        a = springs[s, 2]
         kn = k_n * a
         ks = k_s * a
-        u_n = q[0] + q[3] * y2 - q[4] * y1
+        # normal motion net of the crushing closure; beyond the strength the spring crushes
+        u_n = q[0] + q[3] * y2 - q[4] * y1 - slip[s, 2]
+        closure = slip[s, 2]
+        is_crushed = kn * u_n < -f_c * a * (1.0 - KINK_BAND)
+        if is_crushed:
+            closure += u_n + f_c * a / kn
+            u_n = -f_c * a / kn
+            crushed = True
         u_1 = q[1] - q[5] * y2
         u_2 = q[2] + q[5] * y1
         f_n, f_1, f_2, s1, s2, brk, st = spring_return_map_one(
@@ -139,6 +144,7 @@ def fibre_law_one(
         )
         out_slip[s, 0] = s1
         out_slip[s, 1] = s2
+        out_slip[s, 2] = closure
         out_broken[s] = brk
         area_total += a
         # B rows: u_n, u_t1, u_t2 as linear functions of q
@@ -189,6 +195,11 @@ def fibre_law_one(
             if norm > 0.0:
                 d1n = -mu * kn * t1
                 d2n = -mu * kn * t2
+        if is_crushed:
+            # the normal force stays at the strength, and with it the friction limit
+            dnn = floor * kn
+            d1n = 0.0
+            d2n = 0.0
         for r in range(6):
             for c in range(6):
                 out_D[r, c] += (
@@ -203,28 +214,14 @@ def fibre_law_one(
         state |= STATE_FLEXURE
     if area_slip >= 0.5 * (area_total - area_open):
         state |= STATE_SHEAR
+    if crushed:
+        state |= STATE_CRUSHED
     return state
 
 
 @njit(cache=True)
 def fibre_law(
-    q,
-    spring_ptr,
-    positions,
-    areas,
-    slip,
-    is_broken,
-    k_n,
-    k_s,
-    mu,
-    cohesion,
-    tensile,
-    floor,
-    out_f,
-    out_slip,
-    out_broken,
-    out_state,
-    out_D,
+    q, spring_ptr, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
 ):
     """Batch of :func:`fibre_law_one` over ``m`` interfaces.
 
@@ -232,36 +229,35 @@ def fibre_law(
     ----------
     q : (m, 6) float64
     spring_ptr : (m + 1,) int64
-    positions : (n_springs, 2) float64
-    areas : (n_springs,) float64
-    slip : (n_springs, 2) float64
+    springs : (n_springs, 3) float64
+    params : (m, N_FIBRE_PARAMS) float64
+    slip : (n_springs, 3) float64
     is_broken : (n_springs,) bool
-    k_n, k_s, mu, cohesion, tensile : (m,) float64
-        Per-interface law ([Pa/m], [-], [Pa]).
     floor : float
-    out_f : (m, 6) float64
-    out_slip : (n_springs, 2) float64
+    out_slip : (n_springs, 3) float64
     out_broken : (n_springs,) bool
-    out_state : (m,) int64
+    out_f : (m, 6) float64
     out_D : (m, 6, 6) float64
+
+    Returns
+    -------
+    state : (m,) int64
     """
-    for j in range(q.shape[0]):
-        out_state[j] = fibre_law_one(
+    m = q.shape[0]
+    state = np.empty(m, dtype=np.int64)
+    for j in range(m):
+        state[j] = fibre_law_one(
             q[j],
             spring_ptr[j],
             spring_ptr[j + 1],
-            positions,
-            areas,
+            springs,
+            params[j],
             slip,
             is_broken,
-            k_n[j],
-            k_s[j],
-            mu[j],
-            cohesion[j],
-            tensile[j],
             floor,
-            out_f[j],
             out_slip,
             out_broken,
+            out_f[j],
             out_D[j],
         )
+    return state

@@ -7,6 +7,8 @@ import pytest
 from scipy.integrate import dblquad
 
 from dem.geometry.compatibility import compatibility_matrix
+from dem.kernels import fibre_law as fk
+from dem.kernels import interface_law as rk
 from dem.kernels.fibre_law import fibre_law_one
 from dem.kernels.interface_law import (
     STATE_DETACHED,
@@ -24,7 +26,8 @@ from dem.kernels.stiffness import (
     stiffness_triplets,
 )
 from dem.scenes.running_bond_wall import running_bond_wall
-from dem.static import _lobatto, interface_alpha
+from dem.static import interface_alpha
+from dem.static.laws import lobatto
 
 RNG = np.random.default_rng(7)
 
@@ -115,7 +118,7 @@ def test_alpha_from_table_a1():
 
 
 def test_lobatto_rule_integrates_polynomials():
-    x, w = _lobatto(5)
+    x, w = lobatto(5)
     for p in range(8):  # exact to degree 2n - 3 = 7
         np.testing.assert_allclose(w @ x**p, (1 - (-1) ** (p + 1)) / (p + 1), atol=1e-13)
 
@@ -126,10 +129,20 @@ LEVER = np.array([0.035, 0.035, 0.105, 0.105])
 DIMS = np.array([0.21, 0.07])
 
 
-def _law(q, qp=None, ft=0.0, c=0.0, mu=0.7, alpha=1.5):
+def _params(ft=0.0, c=0.0, mu=0.7, alpha=1.5, f_c=np.inf):
+    p = np.empty(rk.N_PARAMS)
+    p[rk.P_K : rk.P_K + 6] = K6
+    p[rk.P_LEVER : rk.P_LEVER + 4] = LEVER
+    p[rk.P_FT], p[rk.P_COHESION], p[rk.P_MU] = ft, c, mu
+    p[rk.P_DIMS : rk.P_DIMS + 2] = DIMS
+    p[rk.P_ALPHA], p[rk.P_FC], p[rk.P_AREA] = alpha, f_c, DIMS[0] * DIMS[1]
+    return p
+
+
+def _law(q, qp=None, ft=0.0, c=0.0, mu=0.7, alpha=1.5, f_c=np.inf):
     f, qpo, D = np.zeros(6), np.zeros(6), np.zeros((6, 6))
     qp = np.zeros(6) if qp is None else qp
-    brk, st = resultant_law_one(q, qp, False, K6, LEVER, ft, c, mu, DIMS, alpha, 0.0, f, qpo, D)
+    brk, st = resultant_law_one(q, qp, False, _params(ft, c, mu, alpha, f_c), 0.0, f, qpo, D)
     return f, qpo, D, brk, st
 
 
@@ -229,35 +242,28 @@ def test_resultant_tangent_matches_finite_differences(seed):
 
 
 def _grid(l1, l2, n):
-    x, w = _lobatto(n)
+    x, w = lobatto(n)
     g1, g2 = np.meshgrid(0.5 * l1 * x, 0.5 * l2 * x, indexing="ij")
     pos = np.ascontiguousarray(np.column_stack([g1.ravel(), g2.ravel()]))
     return pos, np.outer(w, w).ravel() * 0.25 * l1 * l2
 
 
-def _fibre(q, pos, areas, mu=0.7, coh=0.0, ten=0.0):
+def _fibre_params(mu=0.7, coh=0.0, ten=0.0, f_c=np.inf):
+    p = np.empty(fk.N_FIBRE_PARAMS)
+    p[fk.F_KN], p[fk.F_KS], p[fk.F_MU] = 2.4e9, 1e9, mu
+    p[fk.F_COHESION], p[fk.F_TENSILE], p[fk.F_FC] = coh, ten, f_c
+    return p
+
+
+def _fibre(q, pos, areas, mu=0.7, coh=0.0, ten=0.0, f_c=np.inf, slip=None):
     ns = len(areas)
     f, D = np.zeros(6), np.zeros((6, 6))
-    slip, brk = np.zeros((ns, 2)), np.zeros(ns, dtype=np.bool_)
-    st = fibre_law_one(
-        q,
-        0,
-        ns,
-        pos,
-        areas,
-        slip,
-        brk.copy(),
-        2.4e9,
-        1e9,
-        mu,
-        coh,
-        ten,
-        0.0,
-        f,
-        slip.copy(),
-        brk.copy(),
-        D,
-    )
+    springs = np.ascontiguousarray(np.column_stack([pos, areas]))
+    slip = np.zeros((ns, 3)) if slip is None else slip
+    brk = np.zeros(ns, dtype=np.bool_)
+    out_slip, out_brk = np.zeros((ns, 3)), brk.copy()
+    params = _fibre_params(mu, coh, ten, f_c)
+    st = fibre_law_one(q, 0, ns, springs, params, slip, brk, 0.0, out_slip, out_brk, f, D)
     return f, D, st
 
 

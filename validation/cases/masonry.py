@@ -130,7 +130,7 @@ def _row(
         source=spec.source,
         wall_s=wall,
         settings={
-            "static": {k: v for k, v in settings.__dict__.items() if not k.startswith("_")},
+            "static": settings.to_dict(),
             "assumptions": spec.assumptions,
             "supports": spec.supports,
             "run": f"validation/results/masonry/{tag}.npz",
