@@ -96,13 +96,6 @@ def fibre_law_one(
         cover at least half the area, plus ``STATE_SHEAR`` if sliding springs cover at least
         half the closed area, plus ``STATE_CRUSHED`` if any spring is crushed.
     """
-    k_n = params[F_KN]
-    k_s = params[F_KS]
-    mu = params[F_MU]
-    cohesion = params[F_COHESION]
-    tensile = params[F_TENSILE]
-    f_c = params[F_FC]
-    crushed = False
     for i in range(6):
         out_f[i] = 0.0
         for j in range(6):
@@ -110,103 +103,19 @@ def fibre_law_one(
     area_open = 0.0
     area_slip = 0.0
     area_total = 0.0
-    bn = np.zeros(6)
-    b1 = np.zeros(6)
-    b2 = np.zeros(6)
+    crushed = False
     for s in range(lo, hi):
-        y1 = springs[s, 0]
-        y2 = springs[s, 1]
-        a = springs[s, 2]
-        kn = k_n * a
-        ks = k_s * a
-        # normal motion net of the crushing closure; beyond the strength the spring crushes
-        u_n = q[0] + q[3] * y2 - q[4] * y1 - slip[s, 2]
-        closure = slip[s, 2]
-        is_crushed = kn * u_n < -f_c * a * (1.0 - KINK_BAND)
-        if is_crushed:
-            closure += u_n + f_c * a / kn
-            u_n = -f_c * a / kn
-            crushed = True
-        u_1 = q[1] - q[5] * y2
-        u_2 = q[2] + q[5] * y1
-        f_n, f_1, f_2, s1, s2, brk, st = spring_return_map_one(
-            u_n,
-            u_1,
-            u_2,
-            slip[s, 0],
-            slip[s, 1],
-            is_broken[s],
-            kn,
-            ks,
-            mu,
-            cohesion * a,
-            tensile * a,
+        code = spring_into(
+            q, s, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
         )
-        out_slip[s, 0] = s1
-        out_slip[s, 1] = s2
-        out_slip[s, 2] = closure
-        out_broken[s] = brk
+        a = springs[s, 2]
         area_total += a
-        # B rows: u_n, u_t1, u_t2 as linear functions of q
-        bn[:] = 0.0
-        b1[:] = 0.0
-        b2[:] = 0.0
-        bn[0] = 1.0
-        bn[3] = y2
-        bn[4] = -y1
-        b1[1] = 1.0
-        b1[5] = -y2
-        b2[2] = 1.0
-        b2[5] = y1
-        out_f[0] += f_n
-        out_f[1] += f_1
-        out_f[2] += f_2
-        out_f[3] += y2 * f_n
-        out_f[4] -= y1 * f_n
-        out_f[5] += y1 * f_2 - y2 * f_1
-        # spring tangent d(f_n, f_1, f_2)/d(u_n, u_1, u_2)
-        dnn = kn
-        d11 = ks
-        d22 = ks
-        d12 = 0.0
-        d1n = 0.0
-        d2n = 0.0
-        if st == STATUS_OPEN:
+        status = code & 3
+        if status == STATUS_OPEN:
             area_open += a
-            dnn = floor * kn
-            d11 = floor * ks
-            d22 = floor * ks
-        elif st == STATUS_SLIP or (
-            st == STATUS_STICK and on_limit(f_n, f_1, f_2, mu, 0.0 if brk else cohesion * a)
-        ):
+        elif status == STATUS_SLIP:
             area_slip += a
-            t1 = 0.0
-            t2 = 0.0
-            norm = np.hypot(f_1, f_2)
-            if norm > 0.0:
-                t1 = f_1 / norm
-                t2 = f_2 / norm
-            trial = ks * np.hypot(u_1 - slip[s, 0], u_2 - slip[s, 1])
-            ratio = min(norm / trial, 1.0) if trial > 0.0 else 0.0
-            d11 = ks * (ratio * (1.0 - t1 * t1) + floor)
-            d22 = ks * (ratio * (1.0 - t2 * t2) + floor)
-            d12 = -ks * ratio * t1 * t2
-            # the Coulomb limit grows with compression: f_t = (c - mu f_n) t
-            if norm > 0.0:
-                d1n = -mu * kn * t1
-                d2n = -mu * kn * t2
-        if is_crushed:
-            # the normal force stays at the strength, and with it the friction limit
-            dnn = floor * kn
-            d1n = 0.0
-            d2n = 0.0
-        for r in range(6):
-            for c in range(6):
-                out_D[r, c] += (
-                    bn[r] * dnn * bn[c]
-                    + b1[r] * (d11 * b1[c] + d12 * b2[c] + d1n * bn[c])
-                    + b2[r] * (d12 * b1[c] + d22 * b2[c] + d2n * bn[c])
-                )
+        crushed = crushed or code >= 4
     if area_open >= area_total * (1.0 - 1e-12):
         return STATE_DETACHED
     state = STATE_ELASTIC
@@ -217,6 +126,100 @@ def fibre_law_one(
     if crushed:
         state |= STATE_CRUSHED
     return state
+
+
+@njit(cache=True)
+def spring_into(q, s, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D):
+    """Return map of spring ``s``, its forces and tangent added to the interface's.
+
+    Arguments as :func:`fibre_law_one`. Returns the spring's status (``STATUS_STICK``,
+    ``STATUS_SLIP`` also for a sticking spring on its limit, ``STATUS_OPEN``) plus 4 if it
+    is crushed.
+    """
+    y1, y2, a = springs[s, 0], springs[s, 1], springs[s, 2]
+    kn = params[F_KN] * a
+    ks = params[F_KS] * a
+    mu = params[F_MU]
+    f_c = params[F_FC]
+    # normal motion net of the crushing closure; beyond the strength the spring crushes
+    u_n = q[0] + q[3] * y2 - q[4] * y1 - slip[s, 2]
+    closure = slip[s, 2]
+    is_crushed = kn * u_n < -f_c * a * (1.0 - KINK_BAND)
+    if is_crushed:
+        closure += u_n + f_c * a / kn
+        u_n = -f_c * a / kn
+    u_1 = q[1] - q[5] * y2
+    u_2 = q[2] + q[5] * y1
+    cohesion = params[F_COHESION] * a
+    f_n, f_1, f_2, s1, s2, brk, st = spring_return_map_one(
+        u_n, u_1, u_2, slip[s, 0], slip[s, 1], is_broken[s], kn, ks, mu, cohesion,
+        params[F_TENSILE] * a,
+    )  # fmt: skip
+    out_slip[s, 0] = s1
+    out_slip[s, 1] = s2
+    out_slip[s, 2] = closure
+    out_broken[s] = brk
+    out_f[0] += f_n
+    out_f[1] += f_1
+    out_f[2] += f_2
+    out_f[3] += y2 * f_n
+    out_f[4] -= y1 * f_n
+    out_f[5] += y1 * f_2 - y2 * f_1
+    # spring tangent d(f_n, f_1, f_2)/d(u_n, u_1, u_2)
+    dnn, d11, d22, d12, d1n, d2n = kn, ks, ks, 0.0, 0.0, 0.0
+    if st == STATUS_OPEN:
+        dnn, d11, d22 = floor * kn, floor * ks, floor * ks
+    elif st == STATUS_SLIP or (
+        st == STATUS_STICK and on_limit(f_n, f_1, f_2, mu, 0.0 if brk else cohesion)
+    ):
+        st = STATUS_SLIP
+        norm = np.hypot(f_1, f_2)
+        t1 = f_1 / norm if norm > 0.0 else 0.0
+        t2 = f_2 / norm if norm > 0.0 else 0.0
+        trial = ks * np.hypot(u_1 - slip[s, 0], u_2 - slip[s, 1])
+        ratio = min(norm / trial, 1.0) if trial > 0.0 else 0.0
+        d11 = ks * (ratio * (1.0 - t1 * t1) + floor)
+        d22 = ks * (ratio * (1.0 - t2 * t2) + floor)
+        d12 = -ks * ratio * t1 * t2
+        # the Coulomb limit grows with compression: f_t = (c - mu f_n) t
+        d1n = -mu * kn * t1
+        d2n = -mu * kn * t2
+    if is_crushed:
+        # the normal force stays at the strength, and with it the friction limit
+        dnn, d1n, d2n = floor * kn, 0.0, 0.0
+    add_spring_tangent(y1, y2, dnn, d11, d22, d12, d1n, d2n, out_D)
+    return st + (4 if is_crushed else 0)
+
+
+@njit(cache=True)
+def add_spring_tangent(y1, y2, dnn, d11, d22, d12, d1n, d2n, out_D):
+    """Add ``B^T T B`` of a spring at ``(y1, y2)`` to the interface tangent ``out_D`` (6, 6).
+
+    ``B`` maps ``q`` to ``(u_n, u_1, u_2)``: ``u_n = dn + phi1 y2 - phi2 y1``,
+    ``u_1 = dt1 - phi3 y2``, ``u_2 = dt2 + phi3 y1``; ``T`` the spring tangent
+    ``[[dnn, 0, 0], [d1n, d11, d12], [d2n, d12, d22]]`` (rows ``f_n, f_1, f_2``).
+    """
+    # columns of B that are nonzero: u_n at (0, 3, 4), u_1 at (1, 5), u_2 at (2, 5)
+    bn_idx = (0, 3, 4)
+    bn_val = (1.0, y2, -y1)
+    b1_idx = (1, 5)
+    b1_val = (1.0, -y2)
+    b2_idx = (2, 5)
+    b2_val = (1.0, y1)
+    for i in range(3):
+        for j in range(3):
+            out_D[bn_idx[i], bn_idx[j]] += bn_val[i] * dnn * bn_val[j]
+    for i in range(2):
+        r1, v1 = b1_idx[i], b1_val[i]
+        r2, v2 = b2_idx[i], b2_val[i]
+        for j in range(2):
+            out_D[r1, b1_idx[j]] += v1 * d11 * b1_val[j]
+            out_D[r1, b2_idx[j]] += v1 * d12 * b2_val[j]
+            out_D[r2, b1_idx[j]] += v2 * d12 * b1_val[j]
+            out_D[r2, b2_idx[j]] += v2 * d22 * b2_val[j]
+        for j in range(3):
+            out_D[r1, bn_idx[j]] += v1 * d1n * bn_val[j]
+            out_D[r2, bn_idx[j]] += v2 * d2n * bn_val[j]
 
 
 @njit(cache=True)

@@ -141,18 +141,13 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
         ``STATE_DETACHED``.
     """
     k = params[P_K : P_K + 6]
-    lever = params[P_LEVER : P_LEVER + 4]
-    dims = params[P_DIMS : P_DIMS + 2]
-    mu = params[P_MU]
-    f_c = params[P_FC]
     ft = params[P_FT]
     c = params[P_COHESION]
     if is_broken:
         ft = 0.0
         c = 0.0
     out_D[:, :] = 0.0
-    n_force = k[0] * (q[0] - qp[0])
-    if n_force > ft:
+    if k[0] * (q[0] - qp[0]) > ft:
         # detachment (Eq. 13): no action; the slips follow the motion so that re-contact
         # starts unloaded
         for i in range(6):
@@ -161,7 +156,24 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
             out_D[i, i] = floor * k[i]
         out_qp[0] = qp[0]
         return is_broken or params[P_FT] > 0.0, STATE_DETACHED
+    state = normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D)
+    state |= shear_and_torsion(q, qp, params, c, ft - out_f[0], floor, out_f, out_qp, out_D)
+    return is_broken, state
+
+
+@njit(cache=True)
+def normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D):
+    """Normal force (with crushing) and rocking moments of a closed joint, Eq. (9).
+
+    Arguments as :func:`resultant_law_one`, ``ft`` the tensile strength force in effect [N].
+    Writes rows 0, 3 and 4 of ``out_f``, ``out_qp``, ``out_D``; returns the state bits.
+    """
+    k = params[P_K : P_K + 6]
+    lever = params[P_LEVER : P_LEVER + 4]
+    dims = params[P_DIMS : P_DIMS + 2]
+    f_c = params[P_FC]
     state = STATE_ELASTIC
+    n_force = k[0] * (q[0] - qp[0])
     dn_dq0 = k[0]  # d N / d dn
     out_qp[0] = qp[0]
     n_crush = -f_c * params[P_AREA]
@@ -174,7 +186,7 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
     out_f[0] = n_force
     out_D[0, 0] = dn_dq0
     cap = ft - n_force  # >= 0
-    # rocking about t1 (M1, lever along y2, hinge along y1) and t2 (M2), Eq. (9)
+    # rocking about t1 (M1, lever along y2, hinge along y1) and t2 (M2)
     for j in range(2):
         i = 3 + j
         m_trial = k[i] * (q[i] - qp[i])
@@ -198,44 +210,37 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
             out_f[i] = m_trial
             out_qp[i] = qp[i]
             out_D[i, i] = k[i]
-    # shear and torsion, Eqs. (10), (12), (14), (A5)
+    return state
+
+
+@njit(cache=True)
+def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
+    """Shear and torsion of a closed joint, Eqs. (10), (12), (14), (A5).
+
+    Arguments as :func:`resultant_law_one`; ``c`` the cohesion force in effect and
+    ``cap = f_t - N`` [N]. Needs rows 0, 3, 4 of ``out_f`` and ``out_D``
+    (:func:`normal_and_rocking`); writes rows 1, 2, 5; returns the state bits.
+    """
+    k = params[P_K : P_K + 6]
     v1 = k[1] * (q[1] - qp[1])
     v2 = k[2] * (q[2] - qp[2])
     m3 = k[5] * (q[5] - qp[5])
-    alpha = params[P_ALPHA]
-    v_u = c - mu * n_force
-    if v_u <= 0.0 and v1 == 0.0 and v2 == 0.0 and m3 == 0.0:
-        # unloaded joint without capacity (a dry joint at N = 0): elastic tangent, so that
-        # the first iteration from the unloaded state sees the elastic stiffness
-        for i in (1, 2, 5):
-            out_f[i] = 0.0
-            out_qp[i] = qp[i]
-            out_D[i, i] = k[i]
-        return is_broken, state
+    v_u = c - params[P_MU] * out_f[0]
     if v_u <= 0.0:
+        # no friction capacity; an unloaded joint (a dry joint at N = 0) keeps its elastic
+        # tangent, so that the first iteration from the unloaded state sees it
+        unloaded = v1 == 0.0 and v2 == 0.0 and m3 == 0.0
         for i in (1, 2, 5):
             out_f[i] = 0.0
-            out_qp[i] = q[i]
-            out_D[i, i] = floor * k[i]
-        return is_broken, state | STATE_SHEAR
-    # compressed rectangle reduced by the eccentricities (uniform stress, seed Fig. 10)
-    e1 = abs(out_f[4]) / cap if cap > 0.0 else 0.0  # lever of M2 lies along y1
-    e2 = abs(out_f[3]) / cap if cap > 0.0 else 0.0
-    r1 = dims[0] - 2.0 * e1
-    r2 = dims[1] - 2.0 * e2
-    if r1 < 0.0:
-        r1 = 0.0
-    if r2 < 0.0:
-        r2 = 0.0
-    c_t = torsion_coefficient(r1, r2)
-    m_u = c_t * v_u
+            out_qp[i] = qp[i] if unloaded else q[i]
+            out_D[i, i] = k[i] if unloaded else floor * k[i]
+        return STATE_ELASTIC if unloaded else STATE_SHEAR
     # shear first, then torsion (Eq. 14 / A5 read as the torsion left by the shear):
-    # V on the Coulomb circle if the trial exceeds it, then |M3| <= M_u (1 - |V|^2/V_u^2)^(1/alpha).
+    # V on the Coulomb circle if the trial exceeds it, then |M3| <= M_u (1 - |V|^2/V_u^2)^(1/a).
     # Continuous as M_u -> 0 (a hinge on an edge keeps its friction, loses its torsion).
     vt = math.sqrt(v1 * v1 + v2 * v2)
-    dvu0 = -mu * dn_dq0  # d V_u / d dn
-    sliding = vt > v_u * (1.0 - KINK_BAND)
-    if sliding:
+    dvu0 = -params[P_MU] * out_D[0, 0]  # d V_u / d dn
+    if vt > v_u * (1.0 - KINK_BAND):
         n1 = v1 / vt
         n2 = v2 / vt
         ratio = v_u / vt
@@ -250,70 +255,86 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
         out_D[2, 0] = n2 * dvu0
         out_qp[1] = q[1] - out_f[1] / k[1]
         out_qp[2] = q[2] - out_f[2] / k[2]
-        state |= STATE_SHEAR
         out_f[5] = 0.0
         out_qp[5] = q[5]
         out_D[5, 5] = floor * k[5]
-        return is_broken, state
+        return STATE_SHEAR
     out_f[1] = v1
     out_f[2] = v2
     out_qp[1] = qp[1]
     out_qp[2] = qp[2]
     out_D[1, 1] = k[1]
     out_D[2, 2] = k[2]
-    b = (v1 * v1 + v2 * v2) / (v_u * v_u)
+    return torsion(q, qp, params, v_u, cap, floor, out_f, out_qp, out_D)
+
+
+@njit(cache=True)
+def torsion(q, qp, params, v_u, cap, floor, out_f, out_qp, out_D):
+    """Torsion left by an elastic shear: ``|M3| <= M_u (1 - |V|^2 / V_u^2)^(1/alpha)`` with
+    ``M_u = c_T V_u`` on the compressed rectangle reduced by the eccentricities (uniform
+    stress, seed Fig. 10). Writes row 5; returns the state bits."""
+    k = params[P_K : P_K + 6]
+    dims = params[P_DIMS : P_DIMS + 2]
+    alpha = params[P_ALPHA]
+    m3 = k[5] * (q[5] - qp[5])
+    r1 = max(dims[0] - 2.0 * (abs(out_f[4]) / cap if cap > 0.0 else 0.0), 0.0)
+    r2 = max(dims[1] - 2.0 * (abs(out_f[3]) / cap if cap > 0.0 else 0.0), 0.0)
+    c_t = torsion_coefficient(r1, r2)
+    m_u = c_t * v_u
+    b = (out_f[1] ** 2 + out_f[2] ** 2) / (v_u * v_u)
     left = (1.0 - b) ** (1.0 / alpha) if b < 1.0 else 0.0
     m_max = m_u * left
     if abs(m3) < m_max * (1.0 - KINK_BAND):
         out_f[5] = m3
         out_qp[5] = qp[5]
         out_D[5, 5] = k[5]
-        return is_broken, state
+        return STATE_ELASTIC
     sg = 1.0 if m3 >= 0.0 else -1.0
     out_f[5] = sg * m_max
     out_qp[5] = q[5] - out_f[5] / k[5]
     out_D[5, 5] = floor * k[5]
-    state |= STATE_SHEAR
     if m_max <= 0.0:
-        return is_broken, state
-    # tangent of M3 = sg M_u(q) (1 - b(q))^(1/alpha)
+        return STATE_SHEAR
+    # tangent of M3 = sg M_u(q) (1 - b(q))^(1/alpha), b = |V|^2 / V_u^2 with V elastic
+    dvu0 = -params[P_MU] * out_D[0, 0]
     dleft_db = -(1.0 / alpha) * (1.0 - b) ** (1.0 / alpha - 1.0)
-    # b = |V|^2 / V_u^2 with V elastic
     db = np.zeros(6)
-    db[1] = 2.0 * v1 * k[1] / (v_u * v_u)
-    db[2] = 2.0 * v2 * k[2] / (v_u * v_u)
-    db[0] = -2.0 * (v1 * v1 + v2 * v2) / (v_u**3) * dvu0
-    # M_u = c_T(e1, e2) V_u
+    db[1] = 2.0 * out_f[1] * k[1] / (v_u * v_u)
+    db[2] = 2.0 * out_f[2] * k[2] / (v_u * v_u)
+    db[0] = -2.0 * b / v_u * dvu0
     dmu = np.zeros(6)
-    dmu[0] = c_t * dvu0
-    if cap > 0.0:
-        h = 1e-6 * (dims[0] + dims[1])
-        dc1 = 0.0
-        dc2 = 0.0
-        if r1 > 0.0:
-            lo1 = max(r1 - h, 0.0)
-            dc1 = (torsion_coefficient(r1 + h, r2) - torsion_coefficient(lo1, r2)) / (r1 + h - lo1)
-        if r2 > 0.0:
-            lo2 = max(r2 - h, 0.0)
-            dc2 = (torsion_coefficient(r1, r2 + h) - torsion_coefficient(r1, lo2)) / (r2 + h - lo2)
-        sg4 = 1.0 if out_f[4] >= 0.0 else -1.0
-        sg3 = 1.0 if out_f[3] >= 0.0 else -1.0
-        for j in range(6):
-            # e1 = |M2| / cap, e2 = |M1| / cap, cap = f_t - N
-            de1 = sg4 * out_D[4, j] / cap
-            de2 = sg3 * out_D[3, j] / cap
-            if j == 0:
-                de1 += abs(out_f[4]) * dn_dq0 / (cap * cap)
-                de2 += abs(out_f[3]) * dn_dq0 / (cap * cap)
-            dct = 0.0
-            if r1 > 0.0:
-                dct -= 2.0 * dc1 * de1
-            if r2 > 0.0:
-                dct -= 2.0 * dc2 * de2
-            dmu[j] += v_u * dct
+    torsion_capacity_gradient(dims, cap, r1, r2, v_u, out_f, out_D, dmu)
+    dmu[0] += c_t * dvu0
     for j in range(6):
         out_D[5, j] += sg * (left * dmu[j] + m_u * dleft_db * db[j])
-    return is_broken, state
+    return STATE_SHEAR
+
+
+@njit(cache=True)
+def torsion_capacity_gradient(dims, cap, r1, r2, v_u, f, D, out):
+    """``V_u d c_T / d q`` through the eccentricities ``e1 = |M2| / cap``, ``e2 = |M1| / cap``
+    of the reduced rectangle ``(r1, r2) = dims - 2 e`` (central differences of
+    :func:`torsion_coefficient`); adds into ``out`` (6,)."""
+    if cap <= 0.0:
+        return
+    h = 1e-6 * (dims[0] + dims[1])
+    dc1 = 0.0
+    dc2 = 0.0
+    if r1 > 0.0:
+        lo1 = max(r1 - h, 0.0)
+        dc1 = (torsion_coefficient(r1 + h, r2) - torsion_coefficient(lo1, r2)) / (r1 + h - lo1)
+    if r2 > 0.0:
+        lo2 = max(r2 - h, 0.0)
+        dc2 = (torsion_coefficient(r1, r2 + h) - torsion_coefficient(r1, lo2)) / (r2 + h - lo2)
+    sg4 = 1.0 if f[4] >= 0.0 else -1.0
+    sg3 = 1.0 if f[3] >= 0.0 else -1.0
+    for j in range(6):
+        de1 = sg4 * D[4, j] / cap
+        de2 = sg3 * D[3, j] / cap
+        if j == 0:  # cap = f_t - N
+            de1 += abs(f[4]) * D[0, 0] / (cap * cap)
+            de2 += abs(f[3]) * D[0, 0] / (cap * cap)
+        out[j] -= v_u * 2.0 * (dc1 * de1 + dc2 * de2)
 
 
 @njit(cache=True)

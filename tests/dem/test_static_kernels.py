@@ -175,6 +175,50 @@ def test_resultant_law_limits_match_seed_equations():
     assert st == STATE_DETACHED and brk
 
 
+def test_resultant_compressive_strength_closed_forms():
+    # crushing: N capped at -f_c A; rocking: the uniform stress block of depth |N| / (f_c w)
+    # takes its half out of the lever, M1 <= |N| (l2/2 - |N| / (2 f_c l1)) (no f_c: |N| l2/2)
+    area = DIMS[0] * DIMS[1]
+    f_c = 1e5
+    f, qp, D, _, st = _law(np.array([-2 * f_c * area / K6[0], 0, 0, 0, 0, 0]), f_c=f_c)
+    np.testing.assert_allclose(f[0], -f_c * area, rtol=1e-12)
+    assert st & rk.STATE_CRUSHED
+    assert D[0, 0] == 0.0  # floor 0: no normal stiffness while crushing
+    # the crushed closure is kept: unloading by the same amount leaves N = -f_c A + k dn
+    back = np.array([-1.5 * f_c * area / K6[0], 0, 0, 0, 0, 0])
+    f2, *_ = _law(back, qp=qp, f_c=f_c)
+    np.testing.assert_allclose(f2[0], -0.5 * f_c * area, rtol=1e-9)
+    n_force = -240.0
+    f, *_, st = _law(np.array([n_force / K6[0], 0, 0, -1.0, 0, 0]), f_c=f_c)
+    np.testing.assert_allclose(f[3], n_force * (0.035 - 240.0 / (2 * f_c * DIMS[0])), rtol=1e-12)
+    assert st & STATE_FLEXURE
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_resultant_tangent_with_compressive_strength_matches_finite_differences(seed):
+    # the rocking limit's dependence on N through the stress block is in the tangent
+    rng = np.random.default_rng(seed)
+    checked = 0
+    for _ in range(200):
+        q = rng.standard_normal(6) * np.array([1e-6, 4e-6, 4e-6, 2e-4, 2e-4, 2e-4])
+        q[0] = -abs(q[0]) - 2e-6
+        f, _, D, _, st = _law(q, f_c=3e5)
+        Dfd = np.zeros((6, 6))
+        same = True
+        for j in range(6):
+            h = 1e-5 * max(abs(q[j]), 1e-8)
+            fp, *_, stp = _law(q + h * np.eye(6)[j], f_c=3e5)
+            fm, *_, stm = _law(q - h * np.eye(6)[j], f_c=3e5)
+            same &= stp == st and stm == st
+            Dfd[:, j] = (fp - fm) / (2 * h)
+        if not same or not st & STATE_FLEXURE:
+            continue
+        scale = np.maximum(np.abs(D).max(axis=1, keepdims=True), 1e-6 * np.abs(D).max())
+        np.testing.assert_allclose(D / scale, Dfd / scale, atol=1e-4)
+        checked += 1
+    assert checked > 20
+
+
 def test_resultant_interaction_surface_eq_A5():
     n_force = -240.0
     q = np.array([n_force / K6[0], 5e-4, 0, 0, 0, 0.05])
@@ -287,6 +331,20 @@ def test_fibre_law_closed_forms():
     f, _, st = _fibre(np.array([0.09e-3, 0, 0, -1e-3, 0, 0]), pos, areas)
     np.testing.assert_allclose(f[3] / f[0], l2 / 2, rtol=1e-12)
     assert st & STATE_FLEXURE
+
+
+def test_fibre_compressive_strength_caps_every_spring():
+    # uniform closure beyond the strength: N = -f_c A (the spring areas sum to A), and a
+    # tilt crushes the edge row first: the compressed resultant stays within -f_c A
+    l1, l2, f_c = 0.3, 0.2, 1e5
+    pos, areas = _grid(l1, l2, 5)
+    f, D, st = _fibre(np.array([-1e-3, 0, 0, 0, 0, 0]), pos, areas, f_c=f_c)
+    np.testing.assert_allclose(f[0], -f_c * l1 * l2, rtol=1e-12)
+    assert st & fk.STATE_CRUSHED and D[0, 0] == 0.0
+    f, _, st = _fibre(np.array([-1e-5, 0, 0, 1e-3, 0, 0]), pos, areas, f_c=f_c)
+    assert st & fk.STATE_CRUSHED and -f_c * l1 * l2 <= f[0] < 0
+    # the moment of a fully plastic (crushed) compressed zone cannot exceed the stress block's
+    assert abs(f[3]) <= f_c * l1 * l2**2 / 4 * (1 + 1e-12)
 
 
 def test_fibre_resultants_match_spring_grid_kernel():
