@@ -93,6 +93,7 @@ class PathFollower:
             settings.plateau_steps,
             settings.softening_drop,
             settings.plateau_rise,
+            settings.plateau_window,
         )
         # step control: the increment, its bounds, the last accepted increment
         self.dc = self.dc_ref = self.dc_cascade = self.dc0

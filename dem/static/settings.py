@@ -188,10 +188,11 @@ class StaticSettings:
     plateau_steps : int
         Consecutive plateau steps that end the analysis, if they also span this many first
         control increments.
-    plateau_rise : float
-        A plateau also needs lambda to have risen by less than this fraction of itself since
-        half the present control displacement (:mod:`dem.collapse_criteria`): slow frictional
-        hardening is not taken for the collapse.
+    plateau_rise, plateau_window : float
+        While lambda still rises at every step, a plateau also needs its peak to have risen
+        by less than ``plateau_rise`` of itself over the last ``plateau_window`` of the
+        control displacement (:mod:`dem.collapse_criteria`): slow frictional hardening is not
+        taken for the collapse.
     softening_drop : float
         End when lambda falls below ``(1 - softening_drop) lambda_max``.
     dead_steps : int
@@ -232,6 +233,7 @@ class StaticSettings:
     plateau_slope: float = 2e-3
     plateau_steps: int = 4
     plateau_rise: float = 1e-3
+    plateau_window: float = 0.5
     softening_drop: float = 0.2
     dead_steps: int = 1
     monitor: tuple[int, int] | None = None
@@ -252,7 +254,13 @@ class StaticSettings:
         for name in ("max_steps", "max_iterations", "target_iterations", "plateau_steps"):
             _integer(name, getattr(self, name), 1)
         _integer("dead_steps", self.dead_steps, 1)
-        for name in ("min_step_ratio", "plateau_slope", "softening_drop", "plateau_rise"):
+        for name in (
+            "min_step_ratio",
+            "plateau_slope",
+            "softening_drop",
+            "plateau_rise",
+            "plateau_window",
+        ):
             _fraction(name, getattr(self, name))
         law = self._resolved_law()
         object.__setattr__(self, "_law", law)
