@@ -9,10 +9,10 @@ order) and ``n_workers``. :func:`open_executor` picks one:
 2. ``scheduler`` or the environment variable ``BLOCKMECH_SCHEDULER`` (``tcp://HOST:PORT`` or a
    scheduler file): an existing cluster;
 3. ``workers=0``: serially in this process (debugging, and the reference for tests);
-4. otherwise a ``LocalCluster`` of ``workers`` (default: one per core) single-threaded worker
-   processes. Processes, not threads: the numba kernels are compiled without ``nogil``, so they
-   hold the GIL and threads of one process do not run them in parallel
-   (``benchmarks/bench_sweep.py`` measures it).
+4. otherwise a ``LocalCluster`` of ``workers`` (default: ``$BLOCKMECH_WORKERS``, else one per
+   core) single-threaded worker processes. Processes, not threads: the numba kernels are
+   compiled without ``nogil``, so they hold the GIL and threads of one process do not run them
+   in parallel (``benchmarks/bench_sweep.py`` measures it).
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ from validation.sweep.tasks import Task
 logger = logging.getLogger(__name__)
 
 SCHEDULER_ENV = "BLOCKMECH_SCHEDULER"
+WORKERS_ENV = "BLOCKMECH_WORKERS"
 IN_FLIGHT_PER_WORKER = 2
 
 
@@ -124,11 +125,14 @@ def open_executor(workers: int | None = None, scheduler: str | None = None) -> I
     Parameters
     ----------
     workers : int, optional
-        Local worker processes; 0 for serial in this process; default one per core.
+        Local worker processes; 0 for serial in this process; default ``$BLOCKMECH_WORKERS``,
+        else one per core.
     scheduler : str, optional
         Address (``tcp://HOST:PORT``) or scheduler-file path of a running cluster; default
         ``$BLOCKMECH_SCHEDULER``.
     """
+    if workers is None and os.environ.get(WORKERS_ENV):
+        workers = int(os.environ[WORKERS_ENV])
     if workers is not None and (not isinstance(workers, int) or workers < 0):
         raise ValueError(f"workers must be a non-negative integer, got {workers!r}")
     scheduler = scheduler or os.environ.get(SCHEDULER_ENV) or None
