@@ -62,6 +62,8 @@ def main(argv: list[str] | None = None) -> int:
     run.add_argument("--quick", action="store_true", help="small, fast version")
     every = sub.add_parser("all", help="run every case")
     every.add_argument("--quick", action="store_true", help="small, fast versions")
+    for p in (run, every):
+        _add_cluster_args(p)
     args = parser.parse_args(argv)
 
     if args.command == "list":
@@ -69,6 +71,8 @@ def main(argv: list[str] | None = None) -> int:
             print(name)
         return 0
     names = [args.case] if args.command == "run" else list(CASES)
+    if args.workers is not None or args.scheduler:
+        return _run_on_cluster(names, args)
     failed = []
     for name in names:
         try:
@@ -78,6 +82,40 @@ def main(argv: list[str] | None = None) -> int:
             failed.append(name)
             if args.command == "run":
                 raise
+    if failed:
+        print(f"failed cases: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _add_cluster_args(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="run the cases as dask tasks on a local cluster of N worker processes",
+    )
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        help="run the cases as dask tasks on a running cluster (tcp://HOST:PORT)",
+    )
+
+
+def _run_on_cluster(names: list[str], args) -> int:
+    """The cases as dask tasks (validation.sweep.cases); results written here as they finish."""
+    from validation.sweep.cases import run_cases_on_cluster
+
+    failed = []
+    chosen = {name: CASES[name] for name in names}
+    for name, out, exc in run_cases_on_cluster(chosen, args.quick, args.workers, args.scheduler):
+        if exc is not None:
+            print(f"{name}: FAILED: {type(exc).__name__}: {exc}", file=sys.stderr)
+            failed.append(name)
+            continue
+        rows, notes, wall = out
+        json_path, md_path = write_results(name, rows, quick=args.quick, wall_s=wall, notes=notes)
+        print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {json_path}, {md_path}")
     if failed:
         print(f"failed cases: {', '.join(failed)}", file=sys.stderr)
         return 1

@@ -260,3 +260,34 @@ def test_dask_reads_the_task_generator_lazily(tmp_path, cluster):
     )  # fmt: skip
     assert summary.n_run == 12
     assert max(lag) <= 3, "never more than in_flight tasks ahead of the store"
+
+
+# -- validation cases as dask tasks --------------------------------------------------------------
+def _nested_study(directory):
+    """A task that runs a sweep itself: on a worker, its tasks go to the same cluster."""
+    summary = run_sweep(tilting_block, list(make_tasks(_params(4), 9)), directory, progress=False)
+    return [r["result"] for r in summary.records()], summary.n_workers
+
+
+def test_a_sweep_inside_a_dask_task_uses_the_same_cluster(tmp_path, cluster):
+    nested, n_workers = cluster.submit(_nested_study, str(tmp_path / "nested")).result()
+    serial = run_sweep(
+        tilting_block, list(make_tasks(_params(4), 9)), tmp_path / "s", workers=0, progress=False
+    )
+    assert nested == [r["result"] for r in serial.records()]
+    assert n_workers == 2
+
+
+def test_cases_on_a_cluster_give_the_serial_rows(cluster):
+    from validation.cases import geometry, limit
+    from validation.sweep.cases import run_case_task, run_cases_on_cluster
+
+    cases = {"geometry": geometry.run, "limit-closed-forms": limit.CASES["limit-closed-forms"]}
+    out = {name: (res, exc) for name, res, exc in
+           run_cases_on_cluster(cases, True, scheduler=cluster.scheduler.address)}  # fmt: skip
+    assert set(out) == set(cases)
+    for name, run in cases.items():
+        (rows, _, _), exc = out[name]
+        assert exc is None
+        serial_rows, _, _ = run_case_task(run, True)
+        assert [(r.quantity, r.ours) for r in rows] == [(r.quantity, r.ours) for r in serial_rows]

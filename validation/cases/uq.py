@@ -308,7 +308,7 @@ def run_gaps_uq(quick: bool):
     k_def = tis_panel_k_def(TIS_N)
     k_imp = k_series(k_def, K_GAPS_SEED_000)
     side_mm = 50.0 / (TIS_N + 1)
-    levels = (1.0,) if quick else (0.5, 1.0, 2.0)  # mean gap in units of 0.001 x block side
+    levels = (1.0,) if quick else (0.5, 1.0, 2.0, 4.0)  # mean gap [0.001 x block side]
     n_real = 6 if quick else 16
     base = {**_tis_params(quick, k_def), "stop_below_peak_fraction": 0.85}
     params = [
