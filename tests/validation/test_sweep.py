@@ -280,7 +280,7 @@ def test_a_sweep_inside_a_dask_task_uses_the_same_cluster(tmp_path, cluster):
 
 def test_cases_on_a_cluster_give_the_serial_rows(cluster):
     from validation.cases import geometry, limit
-    from validation.sweep.cases import run_case_task, run_cases_on_cluster
+    from validation.sweep.cases import run_case, run_cases_on_cluster
 
     cases = {"geometry": geometry.run, "limit-closed-forms": limit.CASES["limit-closed-forms"]}
     out = {name: (res, exc) for name, res, exc in
@@ -289,5 +289,18 @@ def test_cases_on_a_cluster_give_the_serial_rows(cluster):
     for name, run in cases.items():
         (rows, _, _), exc = out[name]
         assert exc is None
-        serial_rows, _, _ = run_case_task(run, True)
+        serial_rows, _, _ = run_case(run, True)
         assert [(r.quantity, r.ours) for r in rows] == [(r.quantity, r.ours) for r in serial_rows]
+
+
+def _numba_threads(params, seed):
+    import numba
+
+    return {"threads": numba.get_num_threads()}
+
+
+def test_tasks_on_a_cluster_run_numba_on_one_thread(tmp_path, cluster):
+    # the worker processes see 2 cores; one task per core must not start 2 numba threads each
+    summary = run_sweep(_numba_threads, [Task("a"), Task("b")], tmp_path,
+                        executor=DaskExecutor(cluster), progress=False)  # fmt: skip
+    assert [r["result"]["threads"] for r in summary.records()] == [1, 1]

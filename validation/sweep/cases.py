@@ -14,15 +14,22 @@ import time
 import uuid
 from collections.abc import Callable, Iterator
 
+from validation.sweep.execute import one_numba_thread
 from validation.sweep.executors import DaskExecutor, open_executor
 
 
-def run_case_task(run: Callable, quick: bool) -> tuple[list, str, float]:
-    """``(rows, notes, wall_s)`` of one case (on a worker)."""
+def run_case(run: Callable, quick: bool) -> tuple[list, str, float]:
+    """``(rows, notes, wall_s)`` of one case."""
     start = time.perf_counter()
     out = run(quick=quick)
     rows, notes = out if isinstance(out, tuple) else (out, "")
     return rows, notes, time.perf_counter() - start
+
+
+def run_case_task(run: Callable, quick: bool) -> tuple[list, str, float]:
+    """:func:`run_case` on a worker: one numba thread, as every task on a cluster."""
+    with one_numba_thread():
+        return run_case(run, quick)
 
 
 def run_cases_on_cluster(
@@ -45,7 +52,7 @@ def run_cases_on_cluster(
         if not isinstance(ex, DaskExecutor):
             for name, run in cases.items():
                 try:
-                    yield name, run_case_task(run, quick), None
+                    yield name, run_case(run, quick), None
                 except Exception as exc:  # report every case, fail at the end
                     yield name, None, exc
             return

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import socket
@@ -57,6 +58,29 @@ def execute_task(fn: TaskFunction, task: Task) -> dict:
     record["wall_s"] = time.perf_counter() - start
     record["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     return record
+
+
+@contextlib.contextmanager
+def one_numba_thread():
+    """Limit numba's parallel kernels to one thread in this thread, restored on exit.
+
+    A cluster runs one task per worker thread, usually one per core: the kernels' own threads
+    (``prange``, default one per core) would oversubscribe the cores many times over.
+    """
+    import numba
+
+    previous = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(previous)
+
+
+def execute_task_one_thread(fn: TaskFunction, task: Task) -> dict:
+    """:func:`execute_task` under :func:`one_numba_thread` (what cluster workers run)."""
+    with one_numba_thread():
+        return execute_task(fn, task)
 
 
 def lost_task_record(task: Task, exc: BaseException) -> dict:

@@ -12,7 +12,9 @@ order) and ``n_workers``. :func:`open_executor` picks one:
 4. otherwise a ``LocalCluster`` of ``workers`` (default: ``$BLOCKMECH_WORKERS``, else one per
    core) single-threaded worker processes. Processes, not threads: the numba kernels are
    compiled without ``nogil``, so they hold the GIL and threads of one process do not run them
-   in parallel (``benchmarks/bench_sweep.py`` measures it).
+   in parallel (``benchmarks/bench_sweep.py`` measures it). On a cluster every task runs with
+   one numba thread (:func:`validation.sweep.execute.execute_task_one_thread`): one task per
+   core already fills the machine.
 """
 
 from __future__ import annotations
@@ -25,7 +27,12 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from typing import Protocol
 
-from validation.sweep.execute import TaskFunction, execute_task, lost_task_record
+from validation.sweep.execute import (
+    TaskFunction,
+    execute_task,
+    execute_task_one_thread,
+    lost_task_record,
+)
 from validation.sweep.tasks import Task
 
 logger = logging.getLogger(__name__)
@@ -91,7 +98,7 @@ class DaskExecutor:
 
     def _submit(self, fn, task: Task, pending: dict, token: str):
         key = f"sweep-{token}-{task.key}"
-        future = self.client.submit(execute_task, fn, task, pure=False, key=key)
+        future = self.client.submit(execute_task_one_thread, fn, task, pure=False, key=key)
         if future.key in pending:
             raise ValueError(f"task key {task.key!r} appears twice in the sweep")
         pending[future.key] = task
