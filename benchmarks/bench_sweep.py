@@ -2,9 +2,10 @@
 
 Run ``python benchmarks/bench_sweep.py [--tasks 16] [--workers 2]``. Prints
 
-1. GIL: four small explicit-DEM tasks on one worker process with one thread and with two
-   threads, and on two single-threaded processes (do the numba kernels run in parallel in
-   threads?);
+1. GIL: (a) the rate of a pure-Python counter in a second thread while one small DEM task
+   runs, over its rate while idle (about 1: the task leaves the GIL free; about 0: it holds
+   it); (b) four small tasks on one worker process with one thread and with two threads, and
+   on two single-threaded processes;
 2. the same ``--tasks`` small tasks (3 x 3 TIS panel to 85 % past the peak, per-block random
    mu) serially in this process and on ``--workers`` local worker processes: wall times and
    the speed-up (target >= 1.8 on 2 workers);
@@ -26,6 +27,7 @@ import os
 import shutil
 import statistics
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -35,6 +37,7 @@ from validation.cases.tis import QUICK
 from validation.cases.uq import tis_friction_task
 from validation.sweep import DaskExecutor, SerialExecutor, latest_records, make_tasks, run_sweep
 from validation.sweep.demo import tilting_block
+from validation.sweep.execute import execute_task_one_thread, one_numba_thread
 
 SWEEPS = Path(__file__).resolve().parents[1] / "validation" / "results" / "sweeps"
 K_IMP_3 = k_series(tis_panel_k_def(3), K_GAPS_SEED_000) / (GPA / MM)
@@ -56,7 +59,7 @@ def _cluster(n_workers: int, threads: int = 1):
 
 
 def _timed_sweep(executor, n: int, root: int, tmp: Path, fn=tis_friction_task, params=SMALL):
-    out = tmp / f"s{root}"
+    out = tmp / f"s{root}-{type(executor).__name__}-{time.perf_counter_ns()}"
     shutil.rmtree(out, ignore_errors=True)
     start = time.perf_counter()
     summary = run_sweep(fn, list(make_tasks([params] * n, root)), out, executor=executor,
@@ -66,20 +69,58 @@ def _timed_sweep(executor, n: int, root: int, tmp: Path, fn=tis_friction_task, p
     return wall, summary
 
 
-def _warm(client, tmp: Path) -> None:
-    n = max(1, sum(client.nthreads().values()))
-    _timed_sweep(DaskExecutor(client), n, 999, tmp)
+def _warm(client) -> None:
+    """One small task pinned to every worker (each loads and compiles the numba kernels)."""
+    tasks = list(make_tasks([SMALL], 999))
+    futures = [client.submit(execute_task_one_thread, tis_friction_task, tasks[0], workers=[w],
+                             pure=False) for w in client.nthreads()]  # fmt: skip
+    client.gather(futures)
+
+
+def _probe_rate(work, seconds: float | None = None) -> tuple[float, float]:
+    """Iterations per second of a pure-Python counter in a second thread while ``work`` runs
+    in this one (or while this thread sleeps ``seconds``); and the wall time."""
+    count, stop = [0], threading.Event()
+
+    def probe():
+        while not stop.is_set():
+            count[0] += 1
+
+    thread = threading.Thread(target=probe)
+    start = time.perf_counter()
+    thread.start()
+    if work is None:
+        time.sleep(seconds)
+    else:
+        work()
+    stop.set()
+    thread.join()
+    wall = time.perf_counter() - start
+    return count[0] / wall, wall
+
+
+def gil_probe() -> None:
+    print("== 1a. GIL probe: does a second thread run while a DEM task runs? ==")
+    task = next(make_tasks([SMALL], 997))
+    with one_numba_thread():
+        tis_friction_task(task.params, task.seed)  # compile / load the cache
+        busy, wall = _probe_rate(lambda: tis_friction_task(task.params, task.seed))
+    idle, _ = _probe_rate(None, wall)
+    print(
+        f"  probe thread rate during the task / while idle: {busy / idle:.2f} "
+        "(about 1: the task leaves the GIL free; about 0: it holds it)"
+    )
 
 
 def gil(tmp: Path) -> None:
-    print("== 1. GIL: 4 small DEM tasks ==")
+    print("== 1b. threads or processes: 4 small DEM tasks ==")
     times = {}
     for label, (workers, threads) in {"1 process x 1 thread": (1, 1),
                                       "1 process x 2 threads": (1, 2),
                                       "2 processes x 1 thread": (2, 1)}.items():  # fmt: skip
         cluster, client = _cluster(workers, threads)
         try:
-            _warm(client, tmp)
+            _warm(client)
             times[label], _ = _timed_sweep(DaskExecutor(client), 4, 1, tmp)
         finally:
             client.close()
@@ -93,10 +134,13 @@ def gil(tmp: Path) -> None:
 def speedup(n_tasks: int, n_workers: int, tmp: Path) -> None:
     print(f"== 2. {n_tasks} small tasks: serial vs {n_workers} worker processes ==")
     _timed_sweep(SerialExecutor(), 1, 998, tmp)  # warm this process
+    # the explicit solver's prange kernels use every core in a serial run: time both
     serial, s_sum = _timed_sweep(SerialExecutor(), n_tasks, 2, tmp)
+    with one_numba_thread():
+        serial_1, _ = _timed_sweep(SerialExecutor(), n_tasks, 2, tmp)
     cluster, client = _cluster(n_workers)
     try:
-        _warm(client, tmp)
+        _warm(client)
         parallel, p_sum = _timed_sweep(DaskExecutor(client), n_tasks, 2, tmp)
         same = [r["result"] for r in s_sum.records()] == [r["result"] for r in p_sum.records()]
         per_task = statistics.median(r["wall_s"] for r in s_sum.records())
@@ -164,6 +208,7 @@ def main() -> None:
     print(f"load average at start: {os.getloadavg()}, cores: {os.cpu_count()}")
     with tempfile.TemporaryDirectory() as tmp:
         if not args.skip_gil:
+            gil_probe()
             gil(Path(tmp))
         speedup(args.tasks, args.workers, Path(tmp))
     projection()
