@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dem.scene import Scene
-from limit.errors import LimitAnalysisError
+from limit.errors import DeadLoadInfeasibleError, LimitAnalysisError, NoMechanismError
 from limit.problems import LimitSettings, StaticProblem, build_static_problem
 from limit.solve import LimitResult, check_scene, limit_analysis, solve_static
 
@@ -223,10 +223,9 @@ def frictionless_lower_bound(
     settings = (settings or LimitSettings()).with_(mu=0.0)
     try:
         res = limit_analysis(scene, settings)
-    except LimitAnalysisError as exc:
-        text = str(exc)
-        if "unbounded" in text:
-            return math.inf, "frictionless structure carries any live load"
+    except NoMechanismError:
+        return math.inf, "frictionless structure carries any live load"
+    except DeadLoadInfeasibleError:
         return None, "frictionless structure cannot carry its dead load: no lower bound"
     # round-off of a zero bound (interior-point solvers stop just inside the cone)
     lam = res.lam if res.lam > settings.tol * 10 else 0.0
