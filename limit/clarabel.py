@@ -319,7 +319,9 @@ def static_certificate(sp_: StaticProblem, f, vertex_forces, lam) -> Certificate
     conic = conic_certificate(sp_.problem)
     eq = equilibrium_residual(sp_.a_eq, f.ravel(), sp_.dead, sp_.live, lam, sp_.row_scale)
     if sp_.friction == "coulomb" and sp_.settings.friction_polygon is None:
-        mu_now = np.asarray(sp_.mu.value, float)
+        # the Parameter holds 0 where mu = inf (no cone): the residual must see inf there
+        mu_set = sp_.mu_interface[sp_.vertex_iface] if sp_.model == "vertex" else sp_.mu_interface
+        mu_now = np.where(np.isfinite(mu_set), np.asarray(sp_.mu.value, float), np.inf)
         tensile = sp_.settings.tensile_strength * sp_.interfaces.area
         if sp_.model == "vertex":
             yres = yield_residual(

@@ -21,6 +21,7 @@ __all__ = [
     "DeadLoadInfeasibleError",
     "NoMechanismError",
     "NumericalFailureError",
+    "InconsistentBoundsError",
 ]
 
 
@@ -52,3 +53,18 @@ class NoMechanismError(LimitAnalysisError):
 
 class NumericalFailureError(LimitAnalysisError):
     """The solver gave no answer that passes its certificate, even after the retries."""
+
+
+class InconsistentBoundsError(NumericalFailureError):
+    """Bounds and estimates that break the theorems' ordering (an estimate above the proven
+    upper bound, a lower bound above an estimate).
+
+    Attributes
+    ----------
+    bounds : limit.estimates.Bounds
+        The inconsistent result, with its ``issues``, for inspection.
+    """
+
+    def __init__(self, message: str, bounds=None):
+        super().__init__(message)
+        self.bounds = bounds

@@ -78,7 +78,7 @@ def _bounds_rows(
     unit: float = 1.0,
     unit_label: str = "lambda [-]",
     iterate: bool = True,
-    max_iter: int = 30,
+    max_updates: int = 30,
     est_reference: float | None = None,
     extra: dict | None = None,
 ) -> tuple[list[Row], dict]:
@@ -87,7 +87,7 @@ def _bounds_rows(
     model = settings.interface_model
     t0 = time.perf_counter()
     try:
-        b = bounds_and_estimates(scene, settings, iterate=iterate, max_iter=max_iter)
+        b = bounds_and_estimates(scene, settings, iterate=iterate, max_updates=max_updates)
     except LimitAnalysisError as exc:
         wall = time.perf_counter() - t0
         text = str(exc)
@@ -139,7 +139,7 @@ def _bounds_rows(
                 est_ref,
                 source,
                 it.wall_s,
-                {**settings.to_dict(), "max_iter": max_iter, "omega": it.omega},
+                {**settings.to_dict(), "max_updates": max_updates, "omega": it.omega},
                 {
                     **extra,
                     "kind": "estimate (b), not a bound",
@@ -416,7 +416,7 @@ def run_orduna(quick: bool = True):
     summaries = []
     variants = ("translations", "fixed", "out-of-plane")
     fcs = (None, 3.0e6) if quick else (None, 1.0e6, 3.0e6, 10.0e6)
-    max_iter = 10 if quick else 30
+    max_updates = 10 if quick else 30
     for n in (3, 6):
         spec = SPECIMENS[f"orduna-{n}x13"]
         lim, fem = spec.references["limit"], spec.references["fem"]
@@ -436,7 +436,7 @@ def run_orduna(quick: bool = True):
                         settings,
                         reference=lim,
                         source=f"{SEED} Table 1 (Orduna & Lourenco 2005b limit analysis)",
-                        max_iter=max_iter,
+                        max_updates=max_updates,
                         est_reference=lim,
                         extra={
                             "seed_limit": lim,
@@ -551,7 +551,7 @@ def _table_rows(table: str, quick: bool):
     rows: list[Row] = []
     specs = [s for s in SPECIMENS.values() if s.table == table]
     pressure = table == "Table 3"
-    max_iter = 3 if quick else 30
+    max_updates = 3 if quick else 30
     for spec in specs:
         variants = [("", spec.build())]
         if table == "Table 2" and spec.supports != "base+beams":
@@ -568,7 +568,7 @@ def _table_rows(table: str, quick: bool):
                     unit=KPA if pressure else 1.0,
                     unit_label="p [kN/m^2]" if pressure else "lambda [-]",
                     iterate=True,
-                    max_iter=max_iter,
+                    max_updates=max_updates,
                     extra={
                         "seed_dem": spec.seed_dem,
                         **spec.references,
@@ -649,7 +649,7 @@ def run_vs_dem(quick: bool = True):
             settings = _joint_settings(spec, our_model)
             t = time.perf_counter()
             try:
-                b = bounds_and_estimates(scene, settings, iterate=not quick, max_iter=30)
+                b = bounds_and_estimates(scene, settings, iterate=not quick, max_updates=30)
                 upper, est_a = b.upper, b.reduced_mu
                 est_b = None if b.iterative is None else b.iterative.lam
                 lower = b.lower
