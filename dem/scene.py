@@ -8,6 +8,7 @@ centroid [m] and small rotation about the centroid [rad]. Wrenches are ordered t
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -21,6 +22,58 @@ from dem.geometry.polyhedron import ConvexBlock, convex_block, plane_basis
 from dem.units import G
 
 DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+SIZE_RATIO = 100.0
+"""Blocks whose sizes differ by more than this factor get a :class:`MixedUnitsWarning`."""
+DENSITY_RATIO = 500.0
+"""Blocks whose densities differ by more than this factor get a :class:`MixedUnitsWarning`
+(masses follow from sizes and densities; a thin plate's small mass is no units mistake)."""
+
+
+class MixedUnitsWarning(UserWarning):
+    """Block sizes or densities (hence masses) differ by orders of magnitude: a block typed in
+    mm among blocks in m, or a density in t/m^3 among kg/m^3. Filter it when the scene is
+    meant so."""
+
+
+def check_finite(**params) -> None:
+    """Raise ValueError naming the first parameter that holds a NaN or an infinity.
+
+    Parameters
+    ----------
+    **params
+        Numbers or (nested) sequences of numbers, by name; None and non-numeric values are
+        skipped (their own checks apply).
+    """
+    for name, value in params.items():
+        if value is None:
+            continue
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            continue
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"{name} must be finite (no NaN or inf), got {value!r}")
+
+
+def warn_mixed_units(blocks: Sequence[ConvexBlock], density: np.ndarray) -> None:
+    """Warn, naming the blocks, when sizes differ by more than :data:`SIZE_RATIO` or
+    densities by more than :data:`DENSITY_RATIO`."""
+    size = np.array([b.size for b in blocks])
+    for what, values, unit, limit in (
+        ("size", size, "m", SIZE_RATIO),
+        ("density", density, "kg/m^3", DENSITY_RATIO),
+    ):
+        big, small = int(np.argmax(values)), int(np.argmin(values))
+        if values[big] > limit * values[small]:
+            warnings.warn(
+                f"block {big} ({what} {values[big]:.3g} {unit}) and block {small} "
+                f"({what} {values[small]:.3g} {unit}) differ by a factor "
+                f"{values[big] / values[small]:.3g}: are they in the same units (m, kg/m^3)?",
+                MixedUnitsWarning,
+                stacklevel=4,
+            )
+            return
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,6 +156,7 @@ class Assembly:
                     "friction coefficient mu must be >= 0 for every block (inf: no sliding)"
                 )
             object.__setattr__(self, "mu", mu)
+        warn_mixed_units(self.blocks, density)
 
     @classmethod
     def from_convex_blocks(

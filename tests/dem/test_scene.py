@@ -1,5 +1,7 @@
 """Scene: construction from user blocks, loads, JSON round trip, bad input."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -136,3 +138,92 @@ def test_per_block_values_of_the_wrong_length_are_refused(name):
     kw = {"density": 1.0, name: [0.5, 0.5]}
     with pytest.raises(ValueError, match=rf"{name} .*3 blocks.* got 2"):
         Assembly.from_convex_blocks([cube, cube + [0, 0, 1], cube + [0, 0, 2]], **kw)
+
+
+BUILDERS = {
+    "running_bond_wall": (
+        "dem.scenes.running_bond_wall",
+        dict(
+            n_per_course=3,
+            n_courses=2,
+            a_mm=50.0,
+            b_mm=200.0,
+            s_mm=100.0,
+            unit_weight_kn_m3=20.0,
+            beam_loads_kn=[(100.0, 1.0)],
+            openings_mm=(),
+        ),
+    ),
+    "wall_with_returns": (
+        "dem.scenes.return_walls",
+        dict(
+            n_per_course=3,
+            n_courses=2,
+            a_mm=50.0,
+            b_mm=200.0,
+            s_mm=100.0,
+            unit_weight_kn_m3=20.0,
+            return_blocks=2,
+            beam_loads_kn=[(300.0, 1.0)],
+        ),
+    ),
+    "tis_panel": (
+        "dem.scenes.tis_panel",
+        dict(n=3, theta_deg=10.0, size_mm=50.0, thickness_mm=3.18, density=2500.0),
+    ),
+}
+
+
+def _bad_cases():
+    for builder, (_, kw) in BUILDERS.items():
+        for name, value in kw.items():
+            if isinstance(value, list):
+                yield builder, name, [(value[0][0], np.nan)]
+                yield builder, name, [(np.inf, value[0][1])]
+            elif not isinstance(value, tuple):
+                yield builder, name, np.nan
+                yield builder, name, np.inf
+
+
+@pytest.mark.parametrize(("builder", "name", "value"), list(_bad_cases()))
+def test_builders_name_a_nan_or_infinite_parameter(builder, name, value):
+    import importlib
+
+    module, kw = BUILDERS[builder]
+    build = getattr(importlib.import_module(module), builder)
+    build(**kw)  # the base case builds
+    with pytest.raises(ValueError, match=rf"^{name}\b"):
+        build(**{**kw, name: value})
+
+
+def test_mixed_units_warn_naming_the_blocks():
+    """A 0.2 x 0.2 x 1 m pillar typed in mm (200 x 200 x 1000) on a 3 m ground in m."""
+    from dem.scene import MixedUnitsWarning
+
+    ground = box_corners((-1.5, -1.5, -1.0), (1.5, 1.5, 0.0))
+    pillar_mm = box_corners((0, 0, 0), (200.0, 200.0, 1000.0))
+    with pytest.warns(MixedUnitsWarning, match=r"block 1 .* block 0"):
+        Scene.from_convex_blocks([ground, pillar_mm], 2000.0, fixed=[0])
+    pillar = box_corners((0, 0, 0), (0.2, 0.2, 1.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Scene.from_convex_blocks([ground, pillar], 2000.0, fixed=[0])
+
+
+def test_public_convex_block_is_exact_by_default():
+    import dem
+
+    cube = box_corners((0, 0, 0), (1, 1, 1))
+    with_centre = np.vstack([cube, [[0.5, 0.5, 0.5]]])
+    with pytest.raises(ValueError, match=r"not in convex position: points \[8\]"):
+        dem.convex_block(with_centre)
+    assert dem.convex_block(with_centre, exact=False).volume == pytest.approx(1.0)
+    assert dem.convex_block(cube).volume == pytest.approx(1.0)
+
+
+def test_a_density_in_tonnes_warns():
+    from dem.scene import MixedUnitsWarning
+
+    cube = box_corners((0, 0, 0), (1, 1, 1))
+    with pytest.warns(MixedUnitsWarning, match=r"block 0 \(density 2e\+03.* block 1 \(density 2 "):
+        Assembly.from_convex_blocks([cube, cube + [0, 0, 1]], [2000.0, 2.0])
