@@ -26,7 +26,7 @@ from limit.errors import LimitAnalysisError
 from limit.estimates import bounds_and_estimates, reduced_friction
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
-from validation.report import RESULTS_DIR, Row
+from validation.report import RESULTS_DIR, Row, output_dir
 
 logger = logging.getLogger(__name__)
 
@@ -400,8 +400,9 @@ def _save_mechanism(key: str, scene: Scene, result) -> str:
     from limit.mechanism import write_mechanism
 
     try:
-        paths = write_mechanism(scene, result, MECHANISM_DIR / key)
-        return paths["npz"]
+        # into the run's staging directory: moved into place with the table (report.staged)
+        write_mechanism(scene, result, output_dir() / MECHANISM_DIR.name / key)
+        return str((MECHANISM_DIR / key).with_suffix(".npz"))
     except Exception as exc:  # pyvista missing or a write error: the table still stands
         logger.warning("could not write the mechanism of %s: %s", key, exc)
         return ""
