@@ -16,9 +16,11 @@ Modules, one concern each:
 """
 
 from dem.explicit.indentation import simulate_indentation
+from dem.explicit.lateral import LiveLoadRamp, MotionCriteria, TiltingTable, simulate_lateral
 from dem.explicit.model import ExplicitModel
 from dem.explicit.results import (
     IndentationResult,
+    LateralResult,
     curve_summary,
     export_peak_state,
     interface_resultants,
@@ -29,16 +31,24 @@ from dem.explicit.settings import (
     RelaxationSettings,
     SimulationError,
 )
+from dem.explicit.stiffness import k_n_from_material, masonry_settings
 
 __all__ = [
     "ExplicitModel",
     "ExplicitSettings",
     "IndentationResult",
     "IndentationSettings",
+    "LateralResult",
+    "LiveLoadRamp",
+    "MotionCriteria",
     "RelaxationSettings",
     "SimulationError",
+    "TiltingTable",
     "curve_summary",
     "export_peak_state",
     "interface_resultants",
+    "k_n_from_material",
+    "masonry_settings",
     "simulate_indentation",
+    "simulate_lateral",
 ]

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from dem.explicit.model import ExplicitModel
+from dem.explicit.model import STATE_ARRAYS, ExplicitModel
 from dem.explicit.results import (
     IndentationResult,
     curve_summary,
@@ -56,9 +56,6 @@ from dem.units import MM
 
 logger = logging.getLogger(__name__)
 # -- indentation driver with checkpoints -------------------------------------------------------
-
-_STATE_ARRAYS = ("pos", "quat", "vel", "omega", "pos_build", "quat_build", "pair_node",
-                 "pair_block", "pair_weight", "pair_shear")  # fmt: skip
 
 
 def _settings_key(scene: Scene, settings, relaxation, indentation) -> str:
@@ -167,7 +164,7 @@ def simulate_indentation(
             st.next_snapshot += indentation.snapshot_interval
         if p_mean > st.best_load:
             st.best_load = p_mean
-            st.peak = {name: getattr(model, name).copy() for name in _STATE_ARRAYS}
+            st.peak = {name: getattr(model, name).copy() for name in STATE_ARRAYS}
             st.peak["t"] = np.array(model.t)
         if indentation.stop_when_out:
             summary = curve_summary(np.array(st.delta), np.array(st.load),
@@ -262,7 +259,7 @@ class _RunState:
         return bool(np.all(tail <= ind.ultimate_fraction * self.best_load))
 
     def save(self, path: Path, model: ExplicitModel) -> None:
-        data = {name: getattr(model, name) for name in _STATE_ARRAYS}
+        data = {name: getattr(model, name) for name in STATE_ARRAYS}
         data.update({f"peak_{k}": v for k, v in self.peak.items()})
         scalars = {
             "key": self.key, "steps": self.steps, "work": self.work, "delta_now": self.delta_now,
@@ -294,7 +291,7 @@ class _RunState:
             if scalars["key"] != key:
                 logger.warning("checkpoint %s is for other settings: starting afresh", path)
                 return None
-            for name in _STATE_ARRAYS:
+            for name in STATE_ARRAYS:
                 setattr(model, name, data[name].copy())
             m = len(model.pair_node)
             model.out_force = np.zeros((m, 3))
@@ -339,9 +336,9 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
     snapshots = list(st.snapshots)
     peak_state = {}
     if st.peak:
-        saved = {name: getattr(model, name).copy() for name in _STATE_ARRAYS}
+        saved = {name: getattr(model, name).copy() for name in STATE_ARRAYS}
         saved_t = model.t
-        for name in _STATE_ARRAYS:
+        for name in STATE_ARRAYS:
             setattr(model, name, st.peak[name].copy())
         model.t = float(st.peak["t"])
         _resize_out(model)
@@ -356,7 +353,7 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         )
         snapshots.append({"delta": float(peak_state["delta"]), "pairs": pairs, "force": force,
                           "point": point, "kind": "peak"})  # fmt: skip
-        for name in _STATE_ARRAYS:
+        for name in STATE_ARRAYS:
             setattr(model, name, saved[name])
         model.t = saved_t
         _resize_out(model)

@@ -9,6 +9,8 @@ import time
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse
+import scipy.sparse.csgraph
 
 from dem.contact_nodes import FACE_ANGLE_DEG, ContactNodes, build_level_sets, seed_contact_nodes
 from dem.explicit.settings import (
@@ -38,6 +40,10 @@ from dem.kernels.integrate import (
 from dem.scene import Scene
 
 logger = logging.getLogger(__name__)
+
+STATE_ARRAYS = ("pos", "quat", "vel", "omega", "pos_build", "quat_build", "pair_node",
+                "pair_block", "pair_weight", "pair_shear")  # fmt: skip
+"""Model attributes that make up the dynamic state (with ``t``)."""
 
 
 class ExplicitModel:
@@ -302,6 +308,91 @@ class ExplicitModel:
         self.pos_build = self.pos.copy()
         self.quat_build = self.quat.copy()
         self.n_rebuilds = getattr(self, "n_rebuilds", 0) + 1
+
+    # -- loads, motion measures, snapshots ---------------------------------------------------
+    def set_external_wrench(self, wrench: np.ndarray) -> None:
+        """Replace the external load (weight and other forces) on every block.
+
+        Parameters
+        ----------
+        wrench : (n_blocks, 6) float
+            Forces at the centroids [N] and moments about them [N m] (true, unscaled).
+        """
+        wrench = np.asarray(wrench, dtype=np.float64)
+        if wrench.shape != (self.n_blocks, 6) or not np.all(np.isfinite(wrench)):
+            raise ValueError(
+                f"external wrench must be finite with shape ({self.n_blocks}, 6), got "
+                f"{wrench.shape}"
+            )
+        self.ext_force[:] = wrench[:, :3]
+        self.ext_torque[:] = wrench[:, 3:]
+
+    def block_displacement(self, pos0: np.ndarray, quat0: np.ndarray) -> np.ndarray:
+        """(n_blocks,) largest displacement of any point of each block since a pose [m].
+
+        ``|c - c_0| + R angle`` with ``R`` the bounding radius and ``angle`` the rotation
+        since ``(pos0, quat0)`` (an upper bound); zero for fixed blocks.
+        """
+        dq = np.abs(np.einsum("ij,ij->i", self.quat, quat0))
+        angle = 2.0 * np.arccos(np.minimum(1.0, dq))
+        out = np.linalg.norm(self.pos - pos0, axis=1) + self.radius * angle
+        out[self.fixed] = 0.0
+        return out
+
+    def block_speed(self) -> np.ndarray:
+        """(n_blocks,) ``|v| + |omega| R``: a bound on the speed of any point [m/s]."""
+        speed = np.linalg.norm(self.vel, axis=1) + np.linalg.norm(self.omega, axis=1) * self.radius
+        speed[self.fixed] = 0.0
+        return speed
+
+    def snapshot(self) -> dict:
+        """A copy of the dynamic state (poses, velocities, neighbour list, shear, time)."""
+        snap = {name: getattr(self, name).copy() for name in STATE_ARRAYS}
+        snap["t"] = self.t
+        snap["n_rebuilds"] = self.n_rebuilds
+        return snap
+
+    def restore(self, snap: dict) -> None:
+        """Return to a state taken by :meth:`snapshot` (the snapshot stays usable)."""
+        for name in STATE_ARRAYS:
+            setattr(self, name, snap[name].copy())
+        self.t = float(snap["t"])
+        self.n_rebuilds = int(snap["n_rebuilds"])
+        m = len(self.pair_node)
+        self.out_force = np.zeros((m, 3))
+        self.out_point = np.zeros((m, 3))
+        self.out_depth = np.zeros(m)
+
+    def check_supported(self) -> None:
+        """Refuse free blocks that no chain of contacts connects to a support.
+
+        A support is a fixed block or a block with all three translations restrained. Contacts
+        are the entries of the neighbour list (nodes within ``margin`` of another block).
+
+        Raises
+        ------
+        SimulationError
+            Naming the unsupported blocks (all of them, grouped by connected cluster).
+        """
+        a = self.node_block[self.pair_node]
+        b = self.pair_block
+        anchored = self.fixed | self.restrained[:, :3].all(axis=1)
+        graph = scipy.sparse.coo_matrix(
+            (np.ones(len(a)), (a, b)), shape=(self.n_blocks, self.n_blocks)
+        )
+        n_comp, label = scipy.sparse.csgraph.connected_components(graph, directed=False)
+        held = np.zeros(n_comp, dtype=bool)
+        held[label[anchored]] = True
+        loose = np.flatnonzero(~held[label])
+        if len(loose):
+            groups = [np.flatnonzero(label == c).tolist() for c in np.unique(label[loose])]
+            shown = "; ".join(str(g[:20]) + (" ..." if len(g) > 20 else "") for g in groups[:5])
+            raise SimulationError(
+                f"{len(loose)} blocks of scene {self.scene.name!r} have no support: no chain "
+                f"of contacts within the margin ({self.settings.margin:.3e} m) reaches a fixed "
+                f"or restrained block. Unsupported groups: {shown}. Fix the blocks "
+                "(Supports.fixed), restrain them, or bring them into contact"
+            )
 
     # -- forces ------------------------------------------------------------------------------
     def _evaluate(self, out_force, out_point, out_depth, shear, dt):

@@ -59,6 +59,58 @@ class IndentationResult:
     info: dict = field(default_factory=dict)
 
 
+@dataclass(frozen=True, eq=False)
+class LateralResult:
+    """Outcome of :func:`dem.explicit.simulate_lateral`.
+
+    Attributes
+    ----------
+    collapsed : bool
+        A moving step was found below the driver's ``max_lambda``.
+    lambda_stable : float
+        Last multiplier at which every block came to rest (tilting: ``tan theta``).
+    lambda_moving : float
+        First multiplier at which a block kept moving; NaN if none.
+    moving_blocks : (k,) int64
+        Blocks moving at ``lambda_moving``.
+    record_lambda : (r,) float
+        Multiplier at the end of each ramp-and-hold step, in the order run (bisection trials
+        included).
+    record_displacement : (r,) float
+        Largest displacement of any block since the start of loading, at those ends [m].
+    record_time : (r,) float
+        Model time [s] (a bisection trial restarts from the time of the last stable step).
+    record_stable : (r,) bool
+        Whether that step ended at rest.
+    detection_lambda : float
+        Largest overshoot of the bracket above the true threshold that the speed threshold
+        allows, ``speed_tol / (g hold)``.
+    speed_tol, displacement_tol : float
+        The motion thresholds [m/s], [m].
+    wall_s : float
+    settings, driver : dict
+        The solver settings and the driver, for the record.
+    info : dict
+        ``dt``, ``omega_max``, ``n_nodes``, relaxation, steps, hold and ramp times.
+    """
+
+    collapsed: bool
+    lambda_stable: float
+    lambda_moving: float
+    moving_blocks: np.ndarray
+    record_lambda: np.ndarray
+    record_displacement: np.ndarray
+    record_time: np.ndarray
+    record_stable: np.ndarray
+    detection_lambda: float
+    speed_tol: float
+    displacement_tol: float
+    wall_s: float
+    settings: dict
+    driver: dict
+    info: dict = field(default_factory=dict)
+
+
 def curve_summary(
     delta: np.ndarray, load: np.ndarray, ultimate_fraction: float, out_confirm: float
 ) -> dict:
