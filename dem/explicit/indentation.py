@@ -28,14 +28,14 @@ import hashlib
 import json
 import logging
 import math
-import os
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from dem.explicit.model import STATE_ARRAYS, ExplicitModel
+from dem.explicit.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
+from dem.explicit.model import ExplicitModel
 from dem.explicit.results import (
     IndentationResult,
     curve_summary,
@@ -48,14 +48,11 @@ from dem.explicit.settings import (
     IndentationSettings,
     RelaxationSettings,
 )
-from dem.kernels.integrate import (
-    quat_to_rot,
-)
+from dem.explicit.state import ExplicitState
 from dem.scene import Scene
 from dem.units import MM
 
 logger = logging.getLogger(__name__)
-# -- indentation driver with checkpoints -------------------------------------------------------
 
 
 def _settings_key(scene: Scene, settings, relaxation, indentation) -> str:
@@ -112,92 +109,39 @@ def simulate_indentation(
     ckpt = Path(checkpoint) if checkpoint is not None else None
     st = _RunState.from_file(ckpt, key, model) if ckpt is not None and ckpt.exists() else None
     if st is None:
-        st = _RunState(key=key)
-        relax_info = model.relax(relaxation)
-        st.relax = relax_info
-        top = model.scene.assembly.blocks[block]
-        quat_to_rot(model.quat, model.rot)
-        top_world = top.vertices @ model.rot[block].T + (
-            model.pos[block] - model.rot[block] @ model.ref_centroid[block]
-        )
-        shift = model.pos[block] - model.ref_centroid[block]
-        centre_xy = (
-            model._top_centre(block)[:2] + shift[:2]
-            if indentation.axis_xy is None
-            else np.asarray(indentation.axis_xy, dtype=float)
-        )
-        st.centre0 = np.array(
-            [centre_xy[0], centre_xy[1], top_world[:, 2].max() + indentation.tip_radius]
-        )
-        st.t0 = model.t
+        st = _RunState(key=key, relax=model.relax(relaxation), t0=model.t)
+        st.centre0 = _sphere_start(model, block, indentation)
         if ckpt is not None:
             st.save(ckpt, model)
     else:
         logger.info("resumed from %s at delta=%.4g mm", ckpt, st.delta_now / MM)
-    velocity = np.array([0.0, 0.0, -indentation.speed])
     ind = {"centre0": st.centre0, "t0": st.t0, "radius": indentation.tip_radius,
-           "velocity": velocity}  # fmt: skip
+           "velocity": np.array([0.0, 0.0, -indentation.speed])}  # fmt: skip
     steps_per_record = max(1, round(indentation.record_interval / (indentation.speed * model.dt)))
     n_steps_total = math.ceil(indentation.max_deflection / (indentation.speed * model.dt))
-    last_ckpt = time.perf_counter()
-    last_log = time.perf_counter()
-    loop_start = time.perf_counter()
+    last_ckpt = last_log = loop_start = time.perf_counter()
     steps_start = st.steps
     chunks = 0
     while st.steps < n_steps_total and not st.finished:
         n = min(steps_per_record, n_steps_total - st.steps)
         acc = model.advance(n, indenter=ind)
-        st.steps += n
-        st.work += acc[1]
-        delta = indentation.speed * (model.t - st.t0)
-        d_prev = st.delta_now
-        p_mean = acc[1] / (delta - d_prev) if delta > d_prev else acc[0]
-        st.delta_now = delta
-        st.record(model, delta, p_mean, acc[1])
-        if delta >= st.next_snapshot:
-            _, _, ef, ep, _ = model.contact_wrenches(None)
-            pairs, force, point = interface_resultants(
-                model.pair_node, model.pair_block, model.node_block, ef, ep
-            )
-            st.snapshots.append({"delta": delta, "pairs": pairs, "force": force,
-                                 "point": point, "kind": "run"})  # fmt: skip
-            st.next_snapshot += indentation.snapshot_interval
-        if p_mean > st.best_load:
-            st.best_load = p_mean
-            st.peak = {name: getattr(model, name).copy() for name in STATE_ARRAYS}
-            st.peak["t"] = np.array(model.t)
-        if indentation.stop_when_out:
-            summary = curve_summary(np.array(st.delta), np.array(st.load),
-                                    indentation.ultimate_fraction, indentation.out_confirm) \
-                if st.below_since(indentation) else None  # fmt: skip
-            if summary is not None and math.isfinite(summary["ultimate_deflection"]):
-                st.finished = True
-        if indentation.stop_below_peak_fraction is not None:
-            # the drop must persist over STOP_PERSIST of travel (not an impact transient)
-            if p_mean < indentation.stop_below_peak_fraction * st.best_load:
-                if st.below_from is None:
-                    st.below_from = delta
-                elif delta - st.below_from >= STOP_PERSIST:
-                    st.finished = True
-            else:
-                st.below_from = None
+        p_mean, delta = st.advance(model, n, acc, indentation)
+        st.check_stop(p_mean, delta, indentation)
         now = time.perf_counter()
         if now - last_log >= settings.progress_every_s:
             rate = (st.steps - steps_start) / (now - loop_start)
-            eta = (n_steps_total - st.steps) / rate if rate > 0 else float("nan")
             logger.info(
                 "indent %s: delta=%.4f mm P=%.3f N (peak %.3f N) %.0f steps/s, at most %.0f s "
-                "left", scene.name, delta / MM, p_mean, st.best_load, rate, eta,
+                "left", scene.name, delta / MM, p_mean, st.best_load, rate,
+                (n_steps_total - st.steps) / rate if rate > 0 else float("nan"),
             )  # fmt: skip
             last_log = now
         chunks += 1
-        if ckpt is not None and (
-            now - last_ckpt >= checkpoint_every_s
-            or (stop_after_chunks is not None and chunks >= stop_after_chunks)
-        ):
+        stop_now = stop_after_chunks is not None and chunks >= stop_after_chunks
+        if ckpt is not None and (now - last_ckpt >= checkpoint_every_s or stop_now):
             st.save(ckpt, model)
             last_ckpt = now
-        if stop_after_chunks is not None and chunks >= stop_after_chunks:
+        if stop_now:
             raise KeyboardInterrupt(f"stopped after {chunks} chunks (test hook)")
     st.finished = True
     loop_s = time.perf_counter() - loop_start
@@ -206,6 +150,25 @@ def simulate_indentation(
     wall_s = time.perf_counter() - wall0
     return _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setup_s,
                         loop_s, st.steps - steps_start)  # fmt: skip
+
+
+def _sphere_start(model: ExplicitModel, block: int, indentation: IndentationSettings) -> np.ndarray:
+    """(3,) centre of the sphere just touching the top of the relaxed loaded block [m]."""
+    top = model.scene.assembly.blocks[block]
+    rot = model.rotations()[block]
+    top_world = top.vertices @ rot.T + (model.pos[block] - rot @ model.ref_centroid[block])
+    shift = model.pos[block] - model.ref_centroid[block]
+    centre_xy = (
+        model._top_centre(block)[:2] + shift[:2]
+        if indentation.axis_xy is None
+        else np.asarray(indentation.axis_xy, dtype=float)
+    )
+    return np.array([centre_xy[0], centre_xy[1], top_world[:, 2].max() + indentation.tip_radius])
+
+
+_RECORDS = ("delta", "load", "time", "kinetic", "elastic", "work_hist", "entries")
+_SCALARS = ("steps", "work", "delta_now", "best_load", "finished", "t0", "relax",
+            "next_snapshot", "below_from")  # fmt: skip
 
 
 @dataclass
@@ -230,12 +193,46 @@ class _RunState:
     poses_pos: list = field(default_factory=list)
     poses_quat: list = field(default_factory=list)
     entries: list = field(default_factory=list)
-    peak: dict = field(default_factory=dict)
+    peak: ExplicitState | None = None
     snapshots: list = field(default_factory=list)
     next_snapshot: float = 0.0
     below_from: float | None = None
 
-    def record(self, model: ExplicitModel, delta: float, load: float, dwork: float) -> None:
+    def advance(self, model: ExplicitModel, n: int, acc: np.ndarray, ind: IndentationSettings):
+        """Book ``n`` steps just run: record, snapshot, peak. Returns ``(P, delta)``."""
+        self.steps += n
+        self.work += acc[1]
+        delta = ind.speed * (model.t - self.t0)
+        d_prev = self.delta_now
+        p_mean = acc[1] / (delta - d_prev) if delta > d_prev else acc[0]
+        self.delta_now = delta
+        self.record(model, delta, p_mean)
+        if delta >= self.next_snapshot:
+            self.snapshots.append(_snapshot(model, None, delta, "run"))
+            self.next_snapshot += ind.snapshot_interval
+        if p_mean > self.best_load:
+            self.best_load = p_mean
+            self.peak = model.snapshot()
+        return p_mean, delta
+
+    def check_stop(self, p_mean: float, delta: float, ind: IndentationSettings) -> None:
+        """Set ``finished`` once the block is out, or the load stays below the stop fraction."""
+        if ind.stop_when_out and self.below_since(ind):
+            summary = curve_summary(np.array(self.delta), np.array(self.load),
+                                    ind.ultimate_fraction, ind.out_confirm)  # fmt: skip
+            if math.isfinite(summary["ultimate_deflection"]):
+                self.finished = True
+        if ind.stop_below_peak_fraction is not None:
+            # the drop must persist over STOP_PERSIST of travel (not an impact transient)
+            if p_mean < ind.stop_below_peak_fraction * self.best_load:
+                if self.below_from is None:
+                    self.below_from = delta
+                elif delta - self.below_from >= STOP_PERSIST:
+                    self.finished = True
+            else:
+                self.below_from = None
+
+    def record(self, model: ExplicitModel, delta: float, load: float) -> None:
         self.delta.append(delta)
         self.load.append(load)
         self.time.append(model.t - self.t0)
@@ -244,7 +241,7 @@ class _RunState:
         self.work_hist.append(self.work)
         self.poses_pos.append(model.pos.copy())
         self.poses_quat.append(model.quat.copy())
-        self.entries.append(int(np.count_nonzero(model.out_depth > 0)))
+        self.entries.append(int(np.count_nonzero(model.scratch.out_depth > 0)))
 
     def below_since(self, ind: IndentationSettings) -> bool:
         """Cheap pre-test: the loads over the last ``out_confirm`` of travel (and the record
@@ -259,71 +256,64 @@ class _RunState:
         return bool(np.all(tail <= ind.ultimate_fraction * self.best_load))
 
     def save(self, path: Path, model: ExplicitModel) -> None:
-        data = {name: getattr(model, name) for name in STATE_ARRAYS}
-        data.update({f"peak_{k}": v for k, v in self.peak.items()})
-        scalars = {
-            "key": self.key, "steps": self.steps, "work": self.work, "delta_now": self.delta_now,
-            "best_load": self.best_load, "finished": self.finished, "t0": self.t0,
-            "t": model.t, "relax": self.relax, "n_rebuilds": model.n_rebuilds,
-            "next_snapshot": self.next_snapshot,
-            "below_from": self.below_from,
-            "snapshots": [(snap["delta"], snap["kind"]) for snap in self.snapshots],
-        }  # fmt: skip
+        """Write the model state, the peak state, the records and the snapshots."""
+        arrays = model.state.to_arrays("state.")
+        if self.peak is not None:
+            arrays.update(self.peak.to_arrays("peak."))
         for k, snap in enumerate(self.snapshots):
             for name in ("pairs", "force", "point"):
-                data[f"snap{k}_{name}"] = snap[name]
-        data["scalars"] = np.array(json.dumps(scalars, default=float))
-        data["centre0"] = self.centre0
-        for name in ("delta", "load", "time", "kinetic", "elastic", "work_hist", "entries"):
-            data[f"rec_{name}"] = np.asarray(getattr(self, name))
+                arrays[f"snap{k}.{name}"] = snap[name]
+        arrays["centre0"] = self.centre0
+        for name in _RECORDS:
+            arrays[f"rec.{name}"] = np.asarray(getattr(self, name))
         n = model.n_blocks
-        data["rec_pos"] = np.asarray(self.poses_pos).reshape(-1, n, 3)
-        data["rec_quat"] = np.asarray(self.poses_quat).reshape(-1, n, 4)
-        tmp = path.with_name(path.name + ".tmp.npz")
-        path.parent.mkdir(parents=True, exist_ok=True)
-        np.savez(tmp, **data)
-        os.replace(tmp, path)
+        arrays["rec.pos"] = np.asarray(self.poses_pos).reshape(-1, n, 3)
+        arrays["rec.quat"] = np.asarray(self.poses_quat).reshape(-1, n, 4)
+        meta = {name: getattr(self, name) for name in _SCALARS}
+        meta.update(key=self.key, snapshots=[(s["delta"], s["kind"]) for s in self.snapshots])
+        write_checkpoint(path, arrays, json.loads(json.dumps(meta, default=float)))
 
     @classmethod
     def from_file(cls, path: Path, key: str, model: ExplicitModel) -> _RunState | None:
-        with np.load(path) as data:
-            scalars = json.loads(str(data["scalars"]))
-            if scalars["key"] != key:
-                logger.warning("checkpoint %s is for other settings: starting afresh", path)
-                return None
-            for name in STATE_ARRAYS:
-                setattr(model, name, data[name].copy())
-            m = len(model.pair_node)
-            model.out_force = np.zeros((m, 3))
-            model.out_point = np.zeros((m, 3))
-            model.out_depth = np.zeros(m)
-            model.t = float(scalars["t"])
-            model.n_rebuilds = int(scalars["n_rebuilds"])
-            st = cls(key=key)
-            for name in (
-                "steps",
-                "work",
-                "delta_now",
-                "best_load",
-                "finished",
-                "t0",
-                "relax",
-                "next_snapshot",
-            ):
-                setattr(st, name, scalars[name])
+        """The run stored in ``path`` with the model restored to it; None if for another key.
+
+        Raises
+        ------
+        CheckpointError
+            If the file is damaged or not a checkpoint of ours.
+        """
+        arrays, meta = read_checkpoint(path)
+        if meta.get("key") != key:
+            logger.warning("checkpoint %s is for other settings: starting afresh", path)
+            return None
+        try:
+            model.restore(ExplicitState.from_arrays(arrays, "state."))
+            st = cls(key=key, **{name: meta[name] for name in _SCALARS})
             st.steps = int(st.steps)
-            st.centre0 = data["centre0"].copy()
-            for name in ("delta", "load", "time", "kinetic", "elastic", "work_hist", "entries"):
-                setattr(st, name, data[f"rec_{name}"].tolist())
-            st.poses_pos = list(data["rec_pos"].copy())
-            st.poses_quat = list(data["rec_quat"].copy())
-            st.peak = {k[5:]: data[k].copy() for k in data.files if k.startswith("peak_")}
+            if "peak.t" in arrays:
+                st.peak = ExplicitState.from_arrays(arrays, "peak.")
+            st.centre0 = arrays["centre0"].copy()
+            for name in _RECORDS:
+                setattr(st, name, arrays[f"rec.{name}"].tolist())
+            st.poses_pos = list(arrays["rec.pos"].copy())
+            st.poses_quat = list(arrays["rec.quat"].copy())
             st.snapshots = [
-                {"delta": d, "kind": kind, **{n: data[f"snap{k}_{n}"].copy()
-                                              for n in ("pairs", "force", "point")}}
-                for k, (d, kind) in enumerate(scalars["snapshots"])
+                {"delta": d, "kind": kind,
+                 **{n: arrays[f"snap{k}.{n}"].copy() for n in ("pairs", "force", "point")}}
+                for k, (d, kind) in enumerate(meta["snapshots"])
             ]  # fmt: skip
+        except KeyError as exc:
+            raise CheckpointError(path, f"lacks the entry {exc.args[0]!r}") from None
         return st
+
+
+def _snapshot(model: ExplicitModel, sphere, delta: float, kind: str) -> dict:
+    """Interface resultants at the current state (see :func:`interface_resultants`)."""
+    _, _, ef, ep, _ = model.contact_wrenches(sphere)
+    contacts = model.state.contacts
+    pairs, force, point = interface_resultants(contacts.node, contacts.block,
+                                               model.surface.block, ef, ep)  # fmt: skip
+    return {"delta": delta, "pairs": pairs, "force": force, "point": point, "kind": kind}
 
 
 def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setup_s, loop_s,
@@ -335,30 +325,18 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
     quat = np.asarray(st.poses_quat).reshape(-1, model.n_blocks, 4)
     snapshots = list(st.snapshots)
     peak_state = {}
-    if st.peak:
-        saved = {name: getattr(model, name).copy() for name in STATE_ARRAYS}
-        saved_t = model.t
-        for name in STATE_ARRAYS:
-            setattr(model, name, st.peak[name].copy())
-        model.t = float(st.peak["t"])
-        _resize_out(model)
+    if st.peak is not None:
+        saved = model.snapshot()
+        model.restore(st.peak)
         centre = st.centre0 + ind["velocity"] * (model.t - st.t0)
         sphere = (centre, indentation.tip_radius, ind["velocity"])
         peak_state = export_peak_state(model, sphere)
         peak_state["delta"] = np.array(indentation.speed * (model.t - st.t0))
         peak_state["load"] = np.array(st.best_load)
-        _, _, ef, ep, _ = model.contact_wrenches(sphere)
-        pairs, force, point = interface_resultants(
-            model.pair_node, model.pair_block, model.node_block, ef, ep
-        )
-        snapshots.append({"delta": float(peak_state["delta"]), "pairs": pairs, "force": force,
-                          "point": point, "kind": "peak"})  # fmt: skip
-        for name in STATE_ARRAYS:
-            setattr(model, name, saved[name])
-        model.t = saved_t
-        _resize_out(model)
+        snapshots.append(_snapshot(model, sphere, float(peak_state["delta"]), "peak"))
+        model.restore(saved)
     snapshots.sort(key=lambda snap: snap["delta"])
-    n_nodes = model.nodes.n_nodes + len(model.ind_block)
+    n_nodes = model.nodes.n_nodes + len(model.indenter.block)
     info = {
         "dt": model.dt,
         "dt_critical": model.dt_critical,
@@ -366,7 +344,7 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         "alpha": model.alpha,
         "beta": model.beta,
         "n_nodes": n_nodes,
-        "n_entries": int(len(model.pair_node)),
+        "n_entries": model.n_entries,
         "steps_indentation": int(st.steps),
         "steps_relaxation": int(st.relax.get("steps", 0)),
         "relax": st.relax,
@@ -376,7 +354,7 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         "loop_s": loop_s,
         "steps_this_session": int(steps_run),
         "cost_per_node_step_s": loop_s / max(1, steps_run) / max(1, n_nodes),
-        "cost_per_entry_step_s": loop_s / max(1, steps_run) / max(1, len(model.pair_node)),
+        "cost_per_entry_step_s": loop_s / max(1, steps_run) / max(1, model.n_entries),
         "settings": asdict(settings),
         "indentation": asdict(indentation),
         "relaxation": asdict(relaxation),
@@ -387,10 +365,3 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         elastic=np.asarray(st.elastic), work=np.asarray(st.work_hist), block_pos=pos,
         block_quat=quat, snapshots=snapshots, peak_state=peak_state, info=info, **summary,
     )  # fmt: skip
-
-
-def _resize_out(model: ExplicitModel) -> None:
-    m = len(model.pair_node)
-    model.out_force = np.zeros((m, 3))
-    model.out_point = np.zeros((m, 3))
-    model.out_depth = np.zeros(m)

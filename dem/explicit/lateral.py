@@ -217,7 +217,6 @@ def simulate_lateral(
     driver = driver or TiltingTable()
     relaxation = relaxation or RelaxationSettings(max_steps=400000)
     model = ExplicitModel(scene, settings)
-    model.check_supported()
     model.set_external_wrench(driver.wrench(scene, 0.0))
     relax_info = model.relax(relaxation)
     run = _RampHold(model, driver, scene)

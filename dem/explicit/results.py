@@ -8,8 +8,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from dem.kernels.integrate import quat_to_rot
-
 if TYPE_CHECKING:
     from dem.explicit.model import ExplicitModel
 
@@ -201,9 +199,9 @@ def interface_resultants(
 
 def _to_reference(model: ExplicitModel, blocks: np.ndarray, points: np.ndarray) -> np.ndarray:
     """World points on given blocks mapped to the reference configuration [m]."""
-    quat_to_rot(model.quat, model.rot)
+    rot = model.rotations()
     rel = points - model.pos[blocks]
-    return np.einsum("mji,mj->mi", model.rot[blocks], rel) + model.ref_centroid[blocks]
+    return np.einsum("mji,mj->mi", rot[blocks], rel) + model.ref_centroid[blocks]
 
 
 def export_peak_state(model: ExplicitModel, sphere: tuple) -> dict:
@@ -232,21 +230,21 @@ def export_peak_state(model: ExplicitModel, sphere: tuple) -> dict:
         (n_blocks + 1,); ``centroid`` (n_blocks, 3) [m], reference centroids.
     """
     force, torque, ef, ep, ind = model.contact_wrenches(sphere)
-    a_blk = model.node_block[model.pair_node]
+    contacts = model.state.contacts
+    a_blk = model.surface.block[contacts.node]
     act = np.linalg.norm(ef, axis=1) > 0
-    blocks = np.concatenate([a_blk[act], model.pair_block[act]])
+    blocks = np.concatenate([a_blk[act], contacts.block[act]])
     points = np.concatenate([ep[act], ep[act]])
     forces = np.concatenate([ef[act], -ef[act]])
     act_i = np.linalg.norm(ind, axis=1) > 0
-    quat_to_rot(model.quat, model.rot)
+    rot = model.rotations()
     if np.any(act_i):
-        ib = model.ind_block[act_i]
-        ipts = model.pos[ib] + np.einsum("mij,mj->mi", model.rot[ib], model.ind_r0[act_i])
+        ib = model.indenter.block[act_i]
+        ipts = model.pos[ib] + np.einsum("mij,mj->mi", rot[ib], model.indenter.r0[act_i])
         blocks = np.concatenate([blocks, ib])
         points = np.concatenate([points, ipts])
         forces = np.concatenate([forces, ind[act_i]])
     ref_points = _to_reference(model, blocks, points)
-    rot = model.rot.copy()
     asm = model.scene.assembly
     gravity = np.asarray(model.scene.loads.gravity, dtype=float)
     acc = np.zeros((model.n_blocks, 6))
@@ -254,10 +252,10 @@ def export_peak_state(model: ExplicitModel, sphere: tuple) -> dict:
     for i in model.free_blocks:
         r = rot[i]
         m = model.mass_true[i]
-        acc[i, :3] = (force[i] + model.ext_force[i]) / m
+        acc[i, :3] = (force[i] + model.bodies.ext_force[i]) / m
         iw = r @ model.inertia_true[i] @ r.T
         w = model.omega[i]
-        moment = torque[i] + model.ext_torque[i]
+        moment = torque[i] + model.bodies.ext_torque[i]
         acc[i, 3:] = np.linalg.solve(iw, moment - np.cross(w, iw @ w))
         omega[i] = w
     arrays = asm.arrays

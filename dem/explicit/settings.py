@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from dem.units import MM
 
 INDENTER_NODES_PER_RADIUS_INV = 0.1
@@ -181,8 +183,25 @@ class RelaxationSettings:
     def __post_init__(self):
         if not self.ke_speed > 0:
             raise ValueError(f"ke_speed must be positive [m/s], got {self.ke_speed}")
-        if self.min_steps < 0 or self.max_steps < self.min_steps:
-            raise ValueError("need 0 <= min_steps <= max_steps")
+        for name in ("min_steps", "max_steps"):
+            value = getattr(self, name)
+            if int(value) != value or value < (1 if name == "max_steps" else 0):
+                raise ValueError(
+                    f"RelaxationSettings.{name} must be an integer >= "
+                    f"{1 if name == 'max_steps' else 0}, got {value}"
+                )
+        if self.max_steps < self.min_steps:
+            raise ValueError(
+                f"RelaxationSettings.max_steps ({self.max_steps}) must be >= min_steps "
+                f"({self.min_steps})"
+            )
+        if self.global_damping is not None and not (
+            math.isfinite(self.global_damping) and self.global_damping >= 0
+        ):
+            raise ValueError(
+                f"RelaxationSettings.global_damping must be finite and >= 0, got "
+                f"{self.global_damping}"
+            )
 
 
 @dataclass(frozen=True)
@@ -244,3 +263,10 @@ class IndentationSettings:
                 raise ValueError(f"{name} must be finite and positive, got {value}")
         if not 0 < self.ultimate_fraction < 1:
             raise ValueError("ultimate_fraction must be in (0, 1)")
+        fraction = self.stop_below_peak_fraction
+        if fraction is not None and not 0 < fraction < 1:
+            raise ValueError(f"stop_below_peak_fraction must be in (0, 1), got {fraction}")
+        if self.axis_xy is not None and (
+            np.shape(self.axis_xy) != (2,) or not np.all(np.isfinite(self.axis_xy))
+        ):
+            raise ValueError(f"axis_xy must be a finite (x, y) pair [m], got {self.axis_xy}")
