@@ -7,10 +7,12 @@ import importlib
 import pkgutil
 import sys
 import time
+import warnings
 from collections.abc import Callable
+from pathlib import Path
 
 import validation.cases
-from validation.report import write_results
+from validation.report import RESULTS_DIR, staged, write_results
 
 
 def discover_cases() -> dict[str, Callable]:
@@ -43,14 +45,17 @@ def _failed_import(module: str, exc: Exception) -> Callable:
 CASES = discover_cases()
 
 
-def run_case(name: str, quick: bool) -> None:
-    """Run one case and write ``validation/results/NAME.{json,md}``."""
+def run_case(name: str, quick: bool, out_dir: Path | None = None) -> None:
+    """Run one case and write ``validation/results/NAME.{json,md}`` and its side products
+    together (:func:`validation.report.staged`); warning filters the case sets end with it."""
     start = time.perf_counter()
-    out = CASES[name](quick=quick)
-    rows, notes = out if isinstance(out, tuple) else (out, "")
-    wall = time.perf_counter() - start
-    json_path, md_path = write_results(name, rows, quick=quick, wall_s=wall, notes=notes)
-    print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {json_path}, {md_path}")
+    with staged(name, out_dir) as stage, warnings.catch_warnings():
+        out = CASES[name](quick=quick)
+        rows, notes = out if isinstance(out, tuple) else (out, "")
+        wall = time.perf_counter() - start
+        write_results(name, rows, quick=quick, wall_s=wall, notes=notes, out_dir=stage)
+    final = Path(RESULTS_DIR if out_dir is None else out_dir)
+    print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {final / name}.{{json,md}}")
 
 
 def main(argv: list[str] | None = None) -> int:
