@@ -78,9 +78,7 @@ def stack(
         for k, s in enumerate(shift)
     ]
     reach = width + float(np.abs(shift).max())
-    blocks.append(
-        box_corners(-1.5 * reach, 1.5 * reach, -1.5 * depth, 1.5 * depth, -height, 0.0)
-    )
+    blocks.append(box_corners(-1.5 * reach, 1.5 * reach, -1.5 * depth, 1.5 * depth, -height, 0.0))
     scene = Scene.from_convex_blocks(blocks, density, fixed=[n_blocks], mu=mu, name=name)
     meta = {
         "builder": "dem.scenes.stack",
