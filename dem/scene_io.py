@@ -233,9 +233,7 @@ class SceneSpec:
             raise ValueError(f"mu must be finite and >= 0, got {self.mu}")
         for box in self.fixed_boxes:
             if len(box) != 6 or any(box[k] > box[k + 3] for k in range(3)):
-                raise ValueError(
-                    f"fixed_boxes: need (x0, y0, z0, x1, y1, z1), x0 <= x1: {box}"
-                )
+                raise ValueError(f"fixed_boxes: need (x0, y0, z0, x1, y1, z1), x0 <= x1: {box}")
         if len(self.gravity) != 3:
             raise ValueError(f"gravity must be a 3-vector [m/s^2], got {self.gravity}")
         if self.live is not None and (len(self.live) != 3 or not any(self.live)):
