@@ -375,8 +375,11 @@ def read_scene(
         if spec.density is not None:
             scene = Scene(
                 Assembly(scene.assembly.blocks, spec.density, scene.assembly.mu),
-                scene.supports, scene.loads, scene.name, scene.meta,
-            )  # fmt: skip
+                scene.supports,
+                scene.loads,
+                scene.name,
+                scene.meta,
+            )
         return spec.apply(scene)
     is_surface = path.is_dir() or path.suffix.lower() in SURFACE_SUFFIXES
     blocks = blocks_from_surfaces(path) if is_surface else blocks_from_mesh(path)

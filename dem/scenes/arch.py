@@ -78,10 +78,14 @@ def ring_sections(
     between consecutive radial joints at angles ``phis`` [rad] about ``(centre_x, 0)`` [m]."""
     ri, re = radius - thickness / 2, radius + thickness / 2
     return [
-        [_point(centre_x, ri, a), _point(centre_x, re, a), _point(centre_x, re, b),
-         _point(centre_x, ri, b)]
+        [
+            _point(centre_x, ri, a),
+            _point(centre_x, re, a),
+            _point(centre_x, re, b),
+            _point(centre_x, ri, b),
+        ]
         for a, b in zip(phis[:-1], phis[1:], strict=True)
-    ]  # fmt: skip
+    ]
 
 
 def voussoir_sections(

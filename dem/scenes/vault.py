@@ -94,8 +94,9 @@ def barrel_vault(
     n = len(blocks)
     length = n_rings * ring_width
     for xs in (-radius, radius):
-        blocks.append(box_corners(xs - thickness / 2, xs + thickness / 2, 0.0, length,
-                                  -thickness, 0.0))  # fmt: skip
+        blocks.append(
+            box_corners(xs - thickness / 2, xs + thickness / 2, 0.0, length, -thickness, 0.0)
+        )
     scene = Scene.from_convex_blocks(blocks, density, fixed=[n, n + 1], mu=mu, name=name)
     meta = {
         "builder": "dem.scenes.vault",

@@ -112,8 +112,10 @@ def test_polyhedron_cells_and_a_non_convex_cell_is_named(tmp_path):
     assert block.volume == pytest.approx(1.0)
     # a hexahedron with a corner pushed into the cell: re-entrant, refused by name
     hexes = np.array([[0, 1, 2, 3, 4, 5, 6, 7], [8, 9, 10, 11, 12, 13, 14, 15]])
-    unit = np.array([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
-                     (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)], dtype=float)  # fmt: skip
+    unit = np.array(
+        [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)],
+        dtype=float,
+    )
     dented = unit + [2.0, 0.0, 0.0]
     dented[6] = (2.7, 0.7, 0.7)
     bad = tmp_path / "bad.vtu"
