@@ -1,4 +1,5 @@
-"""Command line: ``python -m validation list | run CASE [--quick] | all [--quick]``."""
+"""Command line: ``python -m validation list | run CASE [--quick] | all [--quick] |
+crosscheck SCENE [--live x] [--out DIR] [--methods ...] [--quick]``."""
 
 from __future__ import annotations
 
@@ -10,7 +11,10 @@ import time
 from collections.abc import Callable
 
 import validation.cases
-from validation.report import write_results
+from validation.crosscheck.cli import add_arguments as add_crosscheck_arguments
+from validation.crosscheck.cli import run as run_crosscheck
+from validation.main_job import run_all
+from validation.report import RESULTS_DIR, write_results
 
 
 def discover_cases() -> dict[str, Callable]:
@@ -43,14 +47,15 @@ def _failed_import(module: str, exc: Exception) -> Callable:
 CASES = discover_cases()
 
 
-def run_case(name: str, quick: bool) -> None:
-    """Run one case and write ``validation/results/NAME.{json,md}``."""
+def run_case(name: str, quick: bool) -> list:
+    """Run one case, write ``validation/results/NAME.{json,md}`` and return its rows."""
     start = time.perf_counter()
     out = CASES[name](quick=quick)
     rows, notes = out if isinstance(out, tuple) else (out, "")
     wall = time.perf_counter() - start
     json_path, md_path = write_results(name, rows, quick=quick, wall_s=wall, notes=notes)
     print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {json_path}, {md_path}")
+    return rows
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -62,12 +67,22 @@ def main(argv: list[str] | None = None) -> int:
     run.add_argument("--quick", action="store_true", help="small, fast version")
     every = sub.add_parser("all", help="run every case")
     every.add_argument("--quick", action="store_true", help="small, fast versions")
+    every.add_argument(
+        "--verbose", action="store_true", help="print everything instead of one line per case"
+    )
+    cross = sub.add_parser("crosscheck", help="every method on one scene -> report")
+    add_crosscheck_arguments(cross)
     args = parser.parse_args(argv)
 
     if args.command == "list":
         for name in CASES:
             print(name)
         return 0
+    if args.command == "crosscheck":
+        return run_crosscheck(args)
+    if args.command == "all" and not args.verbose:
+        summaries = run_all(list(CASES), run_case, args.quick, RESULTS_DIR / "validation.log")
+        return 1 if any(s.failed for s in summaries) else 0
     names = [args.case] if args.command == "run" else list(CASES)
     failed = []
     for name in names:
