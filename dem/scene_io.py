@@ -108,6 +108,17 @@ def _cells(mesh) -> list[tuple[str, np.ndarray, tuple]]:
     return out
 
 
+def _read(path: str | Path):
+    """A meshio mesh, or a ValueError saying why the file cannot be read."""
+    import meshio
+
+    try:
+        with np.errstate(over="ignore"):  # meshio's binary-STL size test overflows on ASCII
+            return meshio.read(path)
+    except meshio.ReadError as exc:
+        raise ValueError(f"{path}: meshio cannot read it ({exc})") from exc
+
+
 def blocks_from_mesh(path: str | Path) -> list[ConvexBlock]:
     """One convex block per 3D cell of a volume mesh (any format meshio reads).
 
@@ -117,9 +128,7 @@ def blocks_from_mesh(path: str | Path) -> list[ConvexBlock]:
         No 3D cell, a higher-order cell type, or a non-convex cell (named by its index over
         all 3D cells, its type and its corners).
     """
-    import meshio
-
-    mesh = meshio.read(path)
+    mesh = _read(path)
     cells = _cells(mesh)
     if not cells:
         raise ValueError(f"{path}: no 3D cells (tetra, wedge, hexahedron, ...) to make blocks of")
@@ -143,12 +152,10 @@ def _merged(points: np.ndarray, faces: list[np.ndarray]) -> tuple[np.ndarray, li
 
 def _bodies(path: Path) -> list[tuple[np.ndarray, list[np.ndarray]]]:
     """Connected components (points, faces) of the surface in one file."""
-    import meshio
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    with np.errstate(over="ignore"):  # meshio's binary-STL size test overflows on ASCII files
-        mesh = meshio.read(path)
+    mesh = _read(path)
     faces = [np.asarray(f) for cb in mesh.cells if cb.dim == 2 for f in cb.data]
     if not faces:
         raise ValueError(f"{path}: no surface polygons to make bodies of")
@@ -365,6 +372,8 @@ def read_scene(
         A non-convex cell or body (named), a mesh without density, bad TOML content.
     """
     path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no such scene file or folder")
     toml = path.with_suffix(".toml") if toml is None else Path(toml)
     base = SceneSpec.from_toml(toml) if toml.is_file() else SceneSpec()
     if toml.is_file():
