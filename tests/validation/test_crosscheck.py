@@ -136,6 +136,13 @@ def test_verdict_rejects_inconsistent_results():
     assert _status(checks, "DEM fibre law collapsed") == "fail"
 
 
+def test_a_failed_method_is_a_failed_line():
+    ctx = _ctx(**{"limit-vertex": LIMIT})
+    ctx.results["dem-resultant"] = StepResult("dem-resultant", "", "failed", "no equilibrium")
+    (line,) = [c for c in verdict(ctx) if c.step == "dem-resultant"]
+    assert line.status == "fail" and line.detail == "no equilibrium"
+
+
 def test_verdict_explains_disagreeing_laws():
     fib = {"lambda_max": 0.40, "termination": "plateau", "collapsed": True}
     res = {"lambda_max": 0.08, "termination": "plateau", "collapsed": True}

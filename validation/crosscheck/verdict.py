@@ -17,7 +17,7 @@ What must hold between the methods (each line says which theorem or check it res
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 from validation.crosscheck.steps import Context
 
@@ -40,6 +40,8 @@ class Check:
         What it is compared with.
     detail : str
         Why it passes, fails or does not apply.
+    step : str
+        The step whose result is checked (empty for checks across steps).
     """
 
     name: str
@@ -47,9 +49,14 @@ class Check:
     value: float | None = None
     bound: float | None = None
     detail: str = ""
+    step: str = ""
 
     def to_dict(self) -> dict:
         return asdict(self)
+
+
+def _tagged(checks: list[Check], step: str) -> list[Check]:
+    return [replace(c, step=step) for c in checks]
 
 
 def _le(a: float, b: float, rtol: float) -> bool:
@@ -66,82 +73,86 @@ def dead_load_checks(ctx: Context) -> list[Check]:
     return [Check("stands under its dead load", PASS if stands else FAIL, detail=res.reason)]
 
 
+def step_checks(ctx: Context) -> list[Check]:
+    """A failed method is a line of the verdict: a result that is missing is not consistent."""
+    return [
+        Check(f"{name} ran", FAIL, detail=res.reason, step=name)
+        for name, res in ctx.results.items()
+        if res.status == "failed"
+    ]
+
+
 def limit_checks(ctx: Context, rtol: float) -> list[Check]:
     out = []
     for model in ("vertex", "resultant"):
-        res = ctx.ok(f"limit-{model}")
-        if res is None:
-            continue
-        v = res.values
-        if v.get("unbounded"):
-            out.append(
-                Check(
-                    f"finite upper bound ({model})",
-                    NA,
-                    detail="no collapse mechanism: the live load is carried for every "
-                    "multiplier (arching against rigid supports)",
-                )
-            )
-            continue
-        upper, lower = v["upper"], v["lower"]
-        estimates = {"estimate mu*": v["reduced_mu"]}
-        if v["iterative"] is not None and v["iterative_admissible"]:
-            estimates["estimate (b)"] = v["iterative"]
-        if lower is None:
-            out.append(Check(f"lower <= upper ({model})", NA, None, upper, v["lower_note"]))
+        out += _tagged(_model_checks(ctx, model, rtol), f"limit-{model}")
+    return out
+
+
+def _model_checks(ctx: Context, model: str, rtol: float) -> list[Check]:
+    res = ctx.ok(f"limit-{model}")
+    if res is None:
+        return []
+    v = res.values
+    if v.get("unbounded"):
+        detail = (
+            "no collapse mechanism: the live load is carried for every multiplier (arching "
+            "against rigid supports)"
+        )
+        return [Check(f"finite upper bound ({model})", NA, detail=detail)]
+    upper, lower = v["upper"], v["lower"]
+    out = []
+    if lower is None:
+        out.append(Check(f"lower <= upper ({model})", NA, None, upper, v["lower_note"]))
+    else:
+        ok = _le(lower, upper, rtol)
+        out.append(Check(f"lower <= upper ({model})", PASS if ok else FAIL, lower, upper))
+    for label, key in (("estimate mu*", "reduced_mu"), ("estimate (b)", "iterative")):
+        name, est = f"{label} within bounds ({model})", v[key]
+        if est is None:
+            out.append(Check(name, NA, detail="not computed"))
+        elif key == "iterative" and not v["iterative_admissible"]:
+            detail = "last iterate not admissible: not bounded by the upper bound"
+            out.append(Check(name, NA, est, upper, detail))
         else:
-            ok = _le(lower, upper, rtol)
-            out.append(Check(f"lower <= upper ({model})", PASS if ok else FAIL, lower, upper))
-        for label, est in estimates.items():
-            if est is None:
-                out.append(Check(f"{label} within bounds ({model})", NA, detail="not computed"))
-                continue
             ok = _le(est, upper, rtol) and (lower is None or _le(lower, est, rtol))
             detail = f"lower {lower:.6g}" if lower is not None else "no lower bound"
-            out.append(
-                Check(f"{label} within bounds ({model})", PASS if ok else FAIL, est, upper, detail)
-            )
-        if v["iterative"] is not None and not v["iterative_admissible"]:
-            out.append(
-                Check(
-                    f"estimate (b) within bounds ({model})",
-                    NA,
-                    v["iterative"],
-                    upper,
-                    "last iterate not admissible: not bounded by the upper bound",
-                )
-            )
+            out.append(Check(name, PASS if ok else FAIL, est, upper, detail))
     return out
 
 
 def dem_checks(ctx: Context, rtol: float) -> list[Check]:
     out = []
-    for law, model in MODEL_OF_LAW.items():
-        res = ctx.ok(f"dem-{law}")
-        if res is None:
-            continue
-        v = res.values
-        lam = v["lambda_max"]
-        lim = ctx.ok(f"limit-{model}")
-        upper = None if lim is None else lim.values["upper"]
-        name = f"DEM {law} law collapsed"
-        detail = f"termination: {v['termination']}"
-        if upper is not None and not math.isfinite(upper):
-            # no mechanism exists (associated upper bound unbounded): none is expected
-            status = NA if v["collapsed"] else PASS
-            detail += f"; the limit analysis ({model}) finds no mechanism, so none is expected"
-            out.append(Check(name, status, lam, upper, detail))
-            continue
-        out.append(Check(name, PASS if v["collapsed"] else FAIL, lam, None, detail))
-        if upper is None:
-            continue
-        ok = _le(lam, upper, rtol)
-        ratio = f"lambda_DEM / upper = {lam / upper:.4f}" if upper else ""
-        out.append(Check(f"DEM {law} <= upper ({model})", PASS if ok else FAIL, lam, upper, ratio))
-        lower = lim.values["lower"]
-        if lower is not None:
-            ok = _le(lower, lam, rtol)
-            out.append(Check(f"lower ({model}) <= DEM {law}", PASS if ok else FAIL, lam, lower))
+    for law in MODEL_OF_LAW:
+        out += _tagged(_law_checks(ctx, law, rtol), f"dem-{law}")
+    return out
+
+
+def _law_checks(ctx: Context, law: str, rtol: float) -> list[Check]:
+    res = ctx.ok(f"dem-{law}")
+    if res is None:
+        return []
+    model = MODEL_OF_LAW[law]
+    v = res.values
+    lam = v["lambda_max"]
+    lim = ctx.ok(f"limit-{model}")
+    upper = None if lim is None else lim.values["upper"]
+    name = f"DEM {law} law collapsed"
+    detail = f"termination: {v['termination']}"
+    if upper is not None and not math.isfinite(upper):
+        # no mechanism exists (associated upper bound unbounded): none is expected
+        detail += f"; the limit analysis ({model}) finds no mechanism, so none is expected"
+        return [Check(name, NA if v["collapsed"] else PASS, lam, upper, detail)]
+    out = [Check(name, PASS if v["collapsed"] else FAIL, lam, None, detail)]
+    if upper is None:
+        return out
+    ok = _le(lam, upper, rtol)
+    ratio = f"lambda_DEM / upper = {lam / upper:.4f}" if upper else ""
+    out.append(Check(f"DEM {law} <= upper ({model})", PASS if ok else FAIL, lam, upper, ratio))
+    lower = lim.values["lower"]
+    if lower is not None:
+        ok = _le(lower, lam, rtol)
+        out.append(Check(f"lower ({model}) <= DEM {law}", PASS if ok else FAIL, lam, lower))
     return out
 
 
@@ -238,10 +249,11 @@ def verdict(ctx: Context, rtol: float = 1e-3, agree_rtol: float = 0.05) -> list[
         Largest relative difference of the two DEM laws called agreement [-].
     """
     return [
-        *dead_load_checks(ctx),
+        *_tagged(dead_load_checks(ctx), "dead-load"),
+        *step_checks(ctx),
         *limit_checks(ctx, rtol),
         *dem_checks(ctx, rtol),
         *agreement_check(ctx, agree_rtol),
-        *explicit_checks(ctx, rtol),
-        *fem_checks(ctx),
+        *_tagged(explicit_checks(ctx, rtol), "explicit"),
+        *_tagged(fem_checks(ctx), "fem"),
     ]
