@@ -90,18 +90,36 @@ def test_case_summary_without_references():
 
 
 def test_validation_all_is_quiet_end_to_end(tmp_path):
-    """The real entry point with one fast case, in a subprocess (descriptor-level noise)."""
-    code = (
-        "import sys, validation.__main__ as m;"
-        "m.CASES = {k: v for k, v in m.CASES.items() if k == 'limit-closed-forms'};"
-        "sys.exit(m.main(['all', '--quick']))"
-    )
+    """The real entry point in a subprocess (descriptor-level noise), with a fake case that
+    solves a real limit-analysis problem and writes its files to a temporary folder."""
+    code = f"""
+import os, sys, warnings
+from pathlib import Path
+import validation.__main__ as m
+from dem.scenes import stack
+from limit import limit_analysis
+from validation.report import Row
+
+def case(quick):
+    os.write(1, b"solver banner on fd 1\\n")
+    warnings.warn("a warning", UserWarning, stacklevel=1)
+    lam = limit_analysis(stack(2, 0.4, 0.3, 0.5)).lam
+    return [Row("overturning of a stack", lam, 0.4, "closed form b / (n h)")]
+
+m.CASES = {{"stack": case}}
+m.RESULTS_DIR = Path({str(tmp_path)!r})
+m.write_results = lambda *a, **k: (Path("x.json"), Path("x.md"))
+sys.exit(m.main(["all", "--quick"]))
+"""
     env = {**os.environ, "MPLBACKEND": "Agg"}
     done = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300
     )
     assert done.returncode == 0, done.stdout + done.stderr
     lines = done.stdout.strip().splitlines()
-    assert lines[1].startswith("[1/1] limit-closed-forms ... ok")
-    assert lines[-1].split()[0] == "limit-closed-forms" and lines[-1].split()[-1] == "no"
-    assert done.stderr == ""
+    assert lines[1].startswith("[1/1] stack ... ok, 1 rows")
+    last = lines[-1].split()
+    assert last[0] == "stack" and last[-1] == "no" and float(last[2]) < 1e-6
+    assert done.stderr == "" and "banner" not in done.stdout
+    log = (tmp_path / "validation.log").read_text()
+    assert "solver banner on fd 1" in log and "a warning" in log
