@@ -8,6 +8,7 @@ import matplotlib.image
 import numpy as np
 import pytest
 
+from dem.scene import point_load
 from dem.scenes import stack
 from validation.crosscheck import (
     Context,
@@ -15,6 +16,7 @@ from validation.crosscheck import (
     StepResult,
     crosscheck,
 )
+from validation.crosscheck.run import weight_direction
 from validation.crosscheck.verdict import verdict
 
 
@@ -62,6 +64,8 @@ def test_report_files_and_pictures(pillar_result):
     assert [s["name"] for s in data["steps"]] == [s.name for s in result.steps]
     md = (out / "report.md").read_text()
     assert "## Verdict" in md and "DEM fibre <= upper (vertex)" in md
+    # the summary reads the live load as an acceleration: each block's weight along +x
+    assert "between 0 and 0.4 (proven bounds)" in md and "seismic coefficient" in md
     for key in ("scene", "interfaces", "mechanism", "stress"):
         assert (out / f"{key}.vtu").stat().st_size > 0
     for key in ("pushover", "mechanism", "interface_states", "stress"):
@@ -165,6 +169,15 @@ def test_unbounded_limit_and_no_dem_collapse_agree():
     checks = verdict(ctx)
     assert _status(checks, "DEM fibre law collapsed") == "pass"
     assert _status(checks, "finite upper bound (vertex)") == "n/a"
+
+
+def test_weight_direction_tells_a_weight_load_from_others():
+    scene = stack(2, 0.4, 0.3, 0.5, live_direction=(0.0, -2.0, 0.0))
+    np.testing.assert_allclose(weight_direction(scene), [0.0, -1.0, 0.0])
+    point = stack(2, 0.4, 0.3, 0.5, live_direction=None).with_loads(
+        live=point_load(scene.assembly, 1, (0.0, 0.0, 1.0), (100.0, 0.0, 0.0))
+    )
+    assert weight_direction(point) is None
 
 
 def test_settings_refuse_unknown_methods():

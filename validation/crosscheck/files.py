@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import datetime
 import json
+import math
 from pathlib import Path
 
 from dem.scene import Scene
@@ -90,6 +91,10 @@ def markdown(result, files: dict, payload: dict) -> str:
         f"{[round(v / 1e3, 4) for v in s['live_resultant_N']]} kN; extent "
         f"{[round(v, 4) for v in s['extent_m']]} m; friction {s['mu']}.",
         "",
+        "## In short",
+        "",
+        *in_short(result),
+        "",
         "## Verdict",
         "",
         *_table(
@@ -141,6 +146,69 @@ def markdown(result, files: dict, payload: dict) -> str:
         *[f"- {x.name}: `{json.dumps(_jsonable(x.settings))}`" for x in result.steps],
     ]
     return "\n".join(lines)
+
+
+def _value(result, step: str, key: str):
+    found = [s for s in result.steps if s.name == step and s.ok]
+    return found[0].values.get(key) if found else None
+
+
+def in_short(result) -> list[str]:
+    """The few sentences an engineer reads first: stands, bounds, DEM, mechanism, stresses."""
+    out = []
+    stands = _value(result, "dead-load", "stands")
+    if stands is not None:
+        out.append(f"- Under its dead load the structure {'stands' if stands else 'FALLS'}.")
+    upper, lower = _value(result, "limit-vertex", "upper"), _value(result, "limit-vertex", "lower")
+    if upper is not None and not math.isfinite(upper):
+        out.append(
+            "- Rigid blocks with Coulomb joints: no collapse mechanism, the live load is "
+            "carried for every multiplier (limit analysis, unbounded)."
+        )
+    elif upper is not None:
+        if lower is not None:
+            span = f"between {lower:.4g} and {upper:.4g} (proven bounds)"
+        else:
+            note = _value(result, "limit-vertex", "lower_note")
+            span = f"at most {upper:.4g} (proven upper bound; {note})"
+        out.append(
+            f"- Rigid blocks with Coulomb joints (vertex model): collapse multiplier {span}."
+        )
+    dem = [
+        (
+            law,
+            _value(result, f"dem-{law}", "lambda_max"),
+            _value(result, f"dem-{law}", "termination"),
+        )
+        for law in ("fibre", "resultant")
+    ]
+    dem = [f"{law} law {lam:.4g} ({end})" for law, lam, end in dem if lam is not None]
+    if dem:
+        out.append(f"- Static DEM: {', '.join(dem)}.")
+    d = result.scene.get("live_weight_direction")
+    if d is not None:
+        out.append(
+            f"- The live load is each block's weight along {[round(c, 3) for c in d]}: "
+            "lambda is the uniform acceleration in g the structure carries along it (for a "
+            "horizontal direction, an equivalent static seismic coefficient)."
+        )
+    moving = _value(result, "limit-vertex", "moving_blocks")
+    if moving:
+        more = f" and {len(moving) - 20} more" if len(moving) > 20 else ""
+        out.append(f"- Mechanism (limit analysis): blocks {moving[:20]}{more} move.")
+    tension = _value(result, "fem", "max_tension_Pa")
+    if tension is not None:
+        comp = _value(result, "fem", "max_compression_Pa")
+        out.append(
+            f"- At the DEM state of lambda_max the largest tension in a block is "
+            f"{tension / 1e6:.3g} MPa and the largest compression {-comp / 1e6:.3g} MPa."
+        )
+    failed = sum(c.status == "fail" for c in result.checks)
+    out.append(
+        f"- The methods are {'consistent' if not failed else 'NOT consistent'} "
+        f"({failed} failed check{'s' if failed != 1 else ''}; see the verdict)."
+    )
+    return out
 
 
 def _mpa(value) -> float | None:

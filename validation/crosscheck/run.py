@@ -126,6 +126,21 @@ class CrosscheckResult:
         raise KeyError(f"no step {name!r}; steps: {[s.name for s in self.steps]}")
 
 
+def weight_direction(scene: Scene, rtol: float = 1e-9) -> list[float] | None:
+    """The unit direction ``d`` if the live load is every free block's weight along ``d``
+    (then lambda is an acceleration in g), else None."""
+    free = ~scene.supports.fixed
+    live = scene.loads.live_wrench[free]
+    weight = scene.assembly.mass[free] * float(np.linalg.norm(scene.loads.gravity))
+    total = live[:, :3].sum(0)
+    if not np.any(total) or np.any(live[:, 3:]):
+        return None
+    d = total / np.linalg.norm(total)
+    if not np.allclose(live[:, :3], weight[:, None] * d, rtol=rtol, atol=rtol * weight.max()):
+        return None
+    return d.tolist()
+
+
 def scene_summary(scene: Scene) -> dict:
     """Size, weight and live load of a scene, for the report's header."""
     a = scene.assembly
@@ -142,6 +157,7 @@ def scene_summary(scene: Scene) -> dict:
         "n_interfaces": a.interfaces().n_interfaces,
         "weight_free_N": float(weight[free].sum()),
         "live_resultant_N": scene.loads.live_wrench[free, :3].sum(0).tolist(),
+        "live_weight_direction": weight_direction(scene),
         "extra_dead_N": scene.loads.dead_wrench[:, :3].sum(0).tolist(),
         "extent_m": (hi - lo).tolist(),
         "mu": None if a.mu is None else [float(a.mu.min()), float(a.mu.max())],
