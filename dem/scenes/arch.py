@@ -36,8 +36,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from dem.scene import Scene, proportional_to_weight
+from dem.scene import Scene
 from dem.scenes.running_bond_wall import box_corners
+from dem.scenes.supported import on_supports
 
 HEYMAN_T_OVER_R = 0.1075
 """Least thickness over centre-line radius of a semicircular arch (Milankovitch 1907)."""
@@ -159,12 +160,10 @@ def voussoir_arch(
     if not (math.isfinite(depth) and depth > 0):
         raise ValueError(f"depth must be finite and positive [m], got {depth!r}")
     sections = voussoir_sections(span, thickness, n_voussoirs, eccentricity)
-    blocks = [_prism(sec, depth) for sec in sections]
     half, t = span / 2.0, thickness
-    for xs in (-half, half):
-        blocks.append(box_corners(xs - t / 2, xs + t / 2, -depth / 2, depth / 2, -t, 0.0))
-    n = len(sections)
-    scene = Scene.from_convex_blocks(blocks, density, fixed=[n, n + 1], mu=mu, name=name)
+    abutments = [
+        box_corners(xs - t / 2, xs + t / 2, -depth / 2, depth / 2, -t, 0.0) for xs in (-half, half)
+    ]
     meta = {
         "builder": "dem.scenes.arch",
         "span": span,
@@ -173,9 +172,5 @@ def voussoir_arch(
         "depth": depth,
         "eccentricity": eccentricity,
     }
-    scene = Scene(scene.assembly, scene.supports, scene.loads, name, meta)
-    if live_direction is None:
-        return scene
-    live = proportional_to_weight(scene.assembly, live_direction)
-    live[n:] = 0.0  # abutments carry no live load
-    return scene.with_loads(live=live)
+    voussoirs = [_prism(sec, depth) for sec in sections]
+    return on_supports(voussoirs, abutments, density, mu, live_direction, name, meta)

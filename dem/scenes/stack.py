@@ -23,8 +23,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from dem.scene import Scene, proportional_to_weight
+from dem.scene import Scene
 from dem.scenes.running_bond_wall import box_corners
+from dem.scenes.supported import on_supports
 
 
 def stack(
@@ -78,8 +79,7 @@ def stack(
         for k, s in enumerate(shift)
     ]
     reach = width + float(np.abs(shift).max())
-    blocks.append(box_corners(-1.5 * reach, 1.5 * reach, -1.5 * depth, 1.5 * depth, -height, 0.0))
-    scene = Scene.from_convex_blocks(blocks, density, fixed=[n_blocks], mu=mu, name=name)
+    ground = box_corners(-1.5 * reach, 1.5 * reach, -1.5 * depth, 1.5 * depth, -height, 0.0)
     meta = {
         "builder": "dem.scenes.stack",
         "n_blocks": int(n_blocks),
@@ -88,9 +88,4 @@ def stack(
         "height": height,
         "offsets": shift.tolist(),
     }
-    scene = Scene(scene.assembly, scene.supports, scene.loads, name, meta)
-    if live_direction is None:
-        return scene
-    live = proportional_to_weight(scene.assembly, live_direction)
-    live[n_blocks] = 0.0  # the ground carries no live load
-    return scene.with_loads(live=live)
+    return on_supports(blocks, [ground], density, mu, live_direction, name, meta)

@@ -20,9 +20,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from dem.scene import Scene, proportional_to_weight
+from dem.scene import Scene
 from dem.scenes.arch import ring_sections
 from dem.scenes.running_bond_wall import box_corners
+from dem.scenes.supported import on_supports
 
 
 def ring_joint_angles(n_voussoirs: int, shifted: bool) -> np.ndarray:
@@ -91,13 +92,11 @@ def barrel_vault(
         for sec in ring_sections(0.0, radius, thickness, phis):
             y0, y1 = j * ring_width, (j + 1) * ring_width
             blocks.append(np.array([(x, y, z) for x, z in sec for y in (y0, y1)]))
-    n = len(blocks)
     length = n_rings * ring_width
-    for xs in (-radius, radius):
-        blocks.append(
-            box_corners(xs - thickness / 2, xs + thickness / 2, 0.0, length, -thickness, 0.0)
-        )
-    scene = Scene.from_convex_blocks(blocks, density, fixed=[n, n + 1], mu=mu, name=name)
+    abutments = [
+        box_corners(xs - thickness / 2, xs + thickness / 2, 0.0, length, -thickness, 0.0)
+        for xs in (-radius, radius)
+    ]
     meta = {
         "builder": "dem.scenes.vault",
         "span": span,
@@ -107,9 +106,4 @@ def barrel_vault(
         "ring_width": ring_width,
         "bond": bond,
     }
-    scene = Scene(scene.assembly, scene.supports, scene.loads, name, meta)
-    if live_direction is None:
-        return scene
-    live = proportional_to_weight(scene.assembly, live_direction)
-    live[n:] = 0.0
-    return scene.with_loads(live=live)
+    return on_supports(blocks, abutments, density, mu, live_direction, name, meta)
