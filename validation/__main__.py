@@ -8,13 +8,15 @@ import importlib
 import pkgutil
 import sys
 import time
+import warnings
 from collections.abc import Callable
+from pathlib import Path
 
 import validation.cases
 from validation.crosscheck.cli import add_arguments as add_crosscheck_arguments
 from validation.crosscheck.cli import run as run_crosscheck
 from validation.main_job import run_all
-from validation.report import RESULTS_DIR, write_results
+from validation.report import RESULTS_DIR, staged, write_results
 
 
 def discover_cases() -> dict[str, Callable]:
@@ -47,14 +49,18 @@ def _failed_import(module: str, exc: Exception) -> Callable:
 CASES = discover_cases()
 
 
-def run_case(name: str, quick: bool) -> list:
-    """Run one case, write ``validation/results/NAME.{json,md}`` and return its rows."""
+def run_case(name: str, quick: bool, out_dir: Path | None = None) -> list:
+    """Run one case and write ``validation/results/NAME.{json,md}`` and its side products
+    together (:func:`validation.report.staged`); warning filters the case sets end with it.
+    Returns the case's rows."""
     start = time.perf_counter()
-    out = CASES[name](quick=quick)
-    rows, notes = out if isinstance(out, tuple) else (out, "")
-    wall = time.perf_counter() - start
-    json_path, md_path = write_results(name, rows, quick=quick, wall_s=wall, notes=notes)
-    print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {json_path}, {md_path}")
+    with staged(name, out_dir) as stage, warnings.catch_warnings():
+        out = CASES[name](quick=quick)
+        rows, notes = out if isinstance(out, tuple) else (out, "")
+        wall = time.perf_counter() - start
+        write_results(name, rows, quick=quick, wall_s=wall, notes=notes, out_dir=stage)
+    final = Path(RESULTS_DIR if out_dir is None else out_dir)
+    print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {final / name}.{{json,md}}")
     return rows
 
 

@@ -27,9 +27,8 @@ def test_the_four_scenes_build():
 
 
 @pytest.mark.slow
-def test_case_quick_smoke(tmp_path, monkeypatch):
-    monkeypatch.setattr(case, "OUT", tmp_path)
-    rows, notes = case.run(quick=True)
+def test_case_quick_smoke(tmp_path):
+    rows, notes = case.run(quick=True, out_root=tmp_path)
     verdicts = {k for k in ("readme", "orduna-3x13", "tis-3x3", "arch") if f"{k}: " in notes}
     assert len(verdicts) == 4
     assert "readme: consistent" in notes and "arch: consistent" in notes

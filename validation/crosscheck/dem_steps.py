@@ -1,33 +1,21 @@
-"""DEM steps: the static solver to collapse with one interface law, and the explicit
-lateral (tilting) driver where the library has it."""
+"""DEM steps: the static solver to collapse with one interface law, and the explicit DEM
+under a ramped live load."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass, replace
 
-import dem.explicit
+from dem.explicit import simulate_lateral
+from dem.explicit.lateral import LiveLoadRamp
 from dem.scene import Scene
 from dem.static import StaticSettings, solve_collapse
-from validation.crosscheck.steps import Context, StepResult, skip_without_collapse
-
-COLLAPSE_ENDS = ("plateau", "softening", "snap_back")
-"""Terminations of :func:`dem.static.solve_collapse` that are a collapse."""
-
-
-def _returning(settings: StaticSettings) -> StaticSettings:
-    """The settings with ``on_failure`` that returns the path instead of raising."""
-    for value in ("return", "stop"):  # the name changed with issue 11
-        try:
-            return replace(settings, on_failure=value)
-        except ValueError:
-            continue
-    return settings
-
-
-def collapsed(result) -> bool:
-    """Whether a static DEM result ended in a collapse (not max_steps, not non-convergence)."""
-    flag = getattr(result, "collapsed", None)
-    return bool(flag) if flag is not None else result.termination in COLLAPSE_ENDS
+from validation.crosscheck.steps import (
+    Context,
+    StepResult,
+    finite_or_none,
+    skip_without_collapse,
+)
 
 
 @dataclass(frozen=True)
@@ -49,12 +37,12 @@ class StaticCollapse:
         skipped = skip_without_collapse(self, scene, ctx)
         if skipped is not None:
             return skipped
-        settings = _returning(self.settings)
+        settings = replace(self.settings, on_failure="return")
         res = solve_collapse(scene, settings)
         values = {
             "lambda_max": res.lambda_max,
             "termination": res.termination,
-            "collapsed": collapsed(res),
+            "collapsed": bool(res.collapsed),
             "n_steps": res.n_steps,
             "n_iterations": res.n_iterations,
             "failure": res.failure,
@@ -67,29 +55,59 @@ class StaticCollapse:
 
 @dataclass(frozen=True)
 class ExplicitLateral:
-    """The explicit lateral (tilting) driver, ``dem.explicit.simulate_lateral``: the bracket
-    ``lambda_stable <= lambda_c <= lambda_moving``. Skipped where the library lacks it."""
+    """The explicit DEM under the scene's live load raised in ramp-and-hold steps
+    (:func:`dem.explicit.simulate_lateral` with a :class:`~dem.explicit.lateral.LiveLoadRamp`):
+    the bracket ``lambda_stable < lambda_c <= lambda_moving``.
 
+    The steps are scaled to the associated upper bound of the vertex model when it ran:
+    first step ``step_fraction`` of it, up to ``max_fraction`` of it (the library's defaults
+    otherwise).
+
+    Attributes
+    ----------
+    step_fraction, max_fraction : float
+        [-].
+    refinements : int
+        Halvings of the step after the first moving one.
+    """
+
+    step_fraction: float = 0.125
+    max_fraction: float = 1.25
+    refinements: int = 4
     name: str = "explicit"
-    method: str = "explicit DEM, lateral load ramp"
+    method: str = "explicit DEM, live load ramped and held"
+
+    def driver(self, ctx: Context) -> LiveLoadRamp:
+        lim = ctx.ok("limit-vertex")
+        upper = None if lim is None else lim.values["upper"]
+        if upper is None or not (math.isfinite(upper) and upper > 0):
+            return LiveLoadRamp(refinements=self.refinements)
+        return LiveLoadRamp(
+            step=self.step_fraction * upper,
+            max_lambda=self.max_fraction * upper,
+            refinements=self.refinements,
+        )
 
     def run(self, scene: Scene, ctx: Context) -> StepResult:
         skipped = skip_without_collapse(self, scene, ctx)
         if skipped is not None:
             return skipped
-        simulate = getattr(dem.explicit, "simulate_lateral", None)
-        if simulate is None:
+        lim = ctx.ok("limit-vertex")
+        if lim is not None and not math.isfinite(lim.values["upper"]):
             return StepResult(
                 self.name,
                 self.method,
                 "skipped",
-                "dem.explicit.simulate_lateral is not in this build",
+                "the limit analysis finds no mechanism: nothing to ramp towards",
             )
-        res = simulate(scene)
+        driver = self.driver(ctx)
+        res = simulate_lateral(scene, driver=driver)
         values = {
             "collapsed": bool(res.collapsed),
             "lambda_stable": res.lambda_stable,
-            "lambda_moving": res.lambda_moving,
-            "moving_blocks": list(map(int, res.moving_blocks)),
+            "lambda_moving": finite_or_none(res.lambda_moving),
+            "moving_blocks": [int(i) for i in res.moving_blocks],
+            "detection_lambda": res.detection_lambda,
         }
-        return StepResult(self.name, self.method, "ok", "", res.wall_s, {}, values, res)
+        settings = {"driver": res.driver, "solver": res.settings}
+        return StepResult(self.name, self.method, "ok", "", res.wall_s, settings, values, res)

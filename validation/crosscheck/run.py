@@ -38,10 +38,12 @@ class CrosscheckSettings:
         Base settings of the limit analysis (the interface model is set per step).
     static : StaticSettings
         Base settings of the static DEM (the interface law is set per step).
+    explicit : ExplicitLateral
+        The explicit step with its load steps.
     fem : FemCheck
         The FEM step with its mesh and material.
-    max_iter : int
-        Iterations of the fixed-capacity estimate (b).
+    max_updates : int or None
+        Capacity updates of the fixed-capacity estimate (b); None: the library's default.
     rtol : float
         Relative slack of the verdict's inequalities [-].
     agree_rtol : float
@@ -53,8 +55,9 @@ class CrosscheckSettings:
     methods: tuple[str, ...] = METHODS
     limit: LimitSettings = field(default_factory=LimitSettings)
     static: StaticSettings = field(default_factory=StaticSettings)
+    explicit: ExplicitLateral = field(default_factory=ExplicitLateral)
     fem: FemCheck = field(default_factory=FemCheck)
-    max_iter: int = 30
+    max_updates: int | None = None
     rtol: float = 1e-3
     agree_rtol: float = 0.05
     pictures: bool = True
@@ -63,30 +66,37 @@ class CrosscheckSettings:
         unknown = set(self.methods) - set(METHODS)
         if unknown:
             raise ValueError(f"unknown methods {sorted(unknown)}; choose from {METHODS}")
-        if int(self.max_iter) != self.max_iter or self.max_iter < 1:
-            raise ValueError(f"max_iter must be an integer >= 1, got {self.max_iter!r}")
+        m = self.max_updates
+        if m is not None and (isinstance(m, bool) or int(m) != m or m < 1):
+            raise ValueError(f"max_updates must be None or an integer >= 1, got {m!r}")
         for name in ("rtol", "agree_rtol"):
             if not 0 <= getattr(self, name) < 1:
                 raise ValueError(f"{name} must lie in [0, 1), got {getattr(self, name)!r}")
 
     @classmethod
     def quick(cls, **kw) -> CrosscheckSettings:
-        """Smaller settings for a first look: 10 iterations of estimate (b), coarse FEM mesh."""
-        return cls(max_iter=10, fem=FemCheck(mesh_fraction=0.4), **kw)
+        """Smaller settings for a first look: 10 updates of estimate (b), coarse FEM mesh, a
+        wider explicit bracket (3 halvings of the step)."""
+        return cls(
+            max_updates=10,
+            fem=FemCheck(mesh_fraction=0.4),
+            explicit=ExplicitLateral(refinements=3),
+            **kw,
+        )
 
     def steps(self) -> list[Step]:
         """The step objects of the chosen methods, in order."""
         groups: dict[str, list[Step]] = {
             "dead": [DeadLoadCheck(self.limit.with_(interface_model="vertex"))],
             "limit": [
-                LimitBounds(self.limit.with_(interface_model=m), self.max_iter)
+                LimitBounds(self.limit.with_(interface_model=m), self.max_updates)
                 for m in ("vertex", "resultant")
             ],
             "dem": [
                 StaticCollapse(replace(self.static, interface_model=law))
                 for law in ("fibre", "resultant")
             ],
-            "explicit": [ExplicitLateral()],
+            "explicit": [self.explicit],
             "fem": [self.fem],
         }
         return [s for m in METHODS if m in self.methods for s in groups[m]]
