@@ -185,6 +185,15 @@ def in_short(result) -> list[str]:
     dem = [f"{law} law {lam:.4g} ({end})" for law, lam, end in dem if lam is not None]
     if dem:
         out.append(f"- Static DEM: {', '.join(dem)}.")
+    stable, moving = (
+        _value(result, "explicit", "lambda_stable"),
+        _value(result, "explicit", "lambda_moving"),
+    )
+    if stable is not None:
+        out.append(
+            f"- Explicit DEM: at rest up to lambda = {stable:.4g}, "
+            + (f"moving at {moving:.4g}." if moving is not None else "no motion found.")
+        )
     d = result.scene.get("live_weight_direction")
     if d is not None:
         out.append(

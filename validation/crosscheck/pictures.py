@@ -112,7 +112,7 @@ def render_pushover(ctx: Context, png: Path) -> Path | None:
             if val is not None:
                 ax.axhline(val, ls=ls, color=colours[model], lw=1.2, label=f"{key} ({model})")
     exp = ctx.ok("explicit")
-    if exp is not None:
+    if exp is not None and exp.values["lambda_moving"] is not None:
         ax.axhspan(
             exp.values["lambda_stable"],
             exp.values["lambda_moving"],
