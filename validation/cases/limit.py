@@ -669,6 +669,7 @@ def run_vs_dem(quick: bool = True):
                 our_err = str(exc)[:120]
             t_lim = time.perf_counter() - t
             t = time.perf_counter()
+            dem_termination, lam_reached = "error", None
             try:
                 dem = solve_collapse(
                     scene,
@@ -677,9 +678,15 @@ def run_vs_dem(quick: bool = True):
                         alpha=settings.torsion_alpha,
                         mu=spec.joint.mu,
                         tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
+                        on_failure="return",
                     ),
                 )
-                lam_dem, dem_err = float(dem.lambda_max), ""
+                dem_termination, lam_reached = dem.termination, float(dem.lambda_max)
+                # a run that did not collapse has no collapse multiplier to compare
+                lam_dem = lam_reached if dem.collapsed else None
+                dem_err = dem.failure
+                if not dem.collapsed:
+                    failures.append(f"{key} {dem_model} ({dem.termination})")
             except Exception as exc:  # the DEM's own failure is reported, not hidden
                 lam_dem, dem_err = None, f"{type(exc).__name__}: {str(exc)[:120]}"
                 failures.append(f"{key} {dem_model}")
@@ -698,6 +705,8 @@ def run_vs_dem(quick: bool = True):
                     {"dem_model": dem_model, "alpha": settings.torsion_alpha, **settings.to_dict()},
                     {
                         "within_bounds": within,
+                        "dem_termination": dem_termination,
+                        "dem_lambda_reached": None if lam_reached is None else lam_reached / unit,
                         "estimate_a_mu_star": None if est_a is None else est_a / unit,
                         "estimate_b_iterative": None if est_b is None else est_b / unit,
                         "lower_frictionless": None if lower is None else lower / unit,
@@ -721,7 +730,10 @@ def run_vs_dem(quick: bool = True):
             "bound test in both pairs.",
             "",
             f"Cases: {'a quick subset' if quick else 'every masonry specimen'} ({len(keys)}).",
-            "DEM failures: " + (", ".join(failures) if failures else "none") + ".",
+            "A DEM run that did not collapse (termination `max_steps`, `stalled` or "
+            "`no_mechanism`) has no multiplier in `ours`; `dem_lambda_reached` is where its "
+            "path ended.",
+            "DEM runs without a collapse: " + (", ".join(failures) if failures else "none") + ".",
         ]
     )
     return rows, notes
