@@ -216,3 +216,15 @@ def test_a_density_in_tonnes_warns():
     cube = box_corners((0, 0, 0), (1, 1, 1))
     with pytest.warns(MixedUnitsWarning, match=r"block 0 \(density 2e\+03.* block 1 \(density 2 "):
         Assembly.from_convex_blocks([cube, cube + [0, 0, 1]], [2000.0, 2.0])
+
+
+def test_load_helpers_name_bad_blocks_and_values(cube_on_ground):
+    from dem.scene import uniform_pressure
+
+    a = cube_on_ground.assembly
+    with pytest.raises(ValueError, match=r"blocks must be block indices 0..1, got \[5\]"):
+        uniform_pressure(a, (0, 1, 0), blocks=[0, 5])
+    with pytest.raises(ValueError, match=r"block index 1.5 out of range"):
+        point_load(a, 1.5, (0, 0, 0), (1, 0, 0))
+    with pytest.raises(ValueError, match=r"^force must be finite"):
+        point_load(a, 0, (0, 0, 0), (np.nan, 0, 0))
