@@ -38,6 +38,7 @@ from limit.clarabel import (
 from limit.deadload import dead_load_error, unsupported_blocks
 from limit.errors import (
     DeadLoadInfeasibleError,
+    LimitAnalysisError,
     NoMechanismError,
     NumericalFailureError,
 )
@@ -45,6 +46,7 @@ from limit.problems import LimitSettings, build_kinematic_problem, build_static_
 
 __all__ = [
     "ACCEPTED",
+    "LimitAnalysisError",
     "LimitResult",
     "check_scene",
     "kinematic_analysis",
