@@ -40,12 +40,12 @@ def step_cost(spacing_mm: float, parallel: bool, n_steps: int = 400) -> dict:
     wall0, cpu0 = time.perf_counter(), time.process_time()
     model.advance(n_steps)
     wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
-    nodes = model.nodes.n_nodes + len(model.ind_block)
+    nodes = model.nodes.n_nodes + len(model.indenter.block)
     return {
         "spacing_mm": spacing_mm,
         "parallel": parallel,
         "nodes": nodes,
-        "entries": len(model.pair_node),
+        "entries": model.n_entries,
         "wall_ms_per_step": wall / n_steps * 1e3,
         "ns_per_node_step": wall / n_steps / nodes * 1e9,
         "cpu_ns_per_node_step": cpu / n_steps / nodes * 1e9,

@@ -29,36 +29,32 @@ def _node_world(i, node_block, node_r0, pos, rot):
 
 
 @njit(cache=True)
-def node_candidate_count(
-    i, node_block, node_r0, pos, rot, ref_centroid, radius, face_ptr, face_normal, face_offset,
-    weight, margin, out_blocks,
-):  # fmt: skip
+def node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, out_blocks):
     """Neighbour blocks of node ``i`` within ``margin``, written to ``out_blocks``; returns count.
 
     Parameters
     ----------
     i : int
         Node index.
-    node_block : (n_nodes,) int64
-    node_r0 : (n_nodes, 3) float64
-        Offsets from the owner's centroid, reference frame [m].
+    nodes : Nodes
+        ``block``, ``r0`` (offsets from the owner's centroid, reference frame [m]) and the
+        counting ``weight`` (n_blocks, n_blocks) of nodes of ``a`` against ``b``.
     pos : (n_blocks, 3) float64
         Centroids [m].
     rot : (n_blocks, 3, 3) float64
         Rotations.
-    ref_centroid : (n_blocks, 3) float64
-        Reference centroids [m].
-    radius : (n_blocks,) float64
-        Bounding radius of each block about its centroid [m].
-    face_ptr, face_normal, face_offset
+    bodies : Bodies
+        ``ref_centroid`` [m] and bounding ``radius`` [m] of each block.
+    shapes : Shapes
         Reference-frame face planes (CSR by block).
-    weight : (n_blocks, n_blocks) float64
-        Counting weight of nodes of block ``a`` against block ``b``.
     margin : float
         [m].
     out_blocks : (n_blocks,) int64
         Scratch output.
     """
+    node_block, node_r0, weight = nodes.block, nodes.r0, nodes.weight
+    ref_centroid, radius = bodies.ref_centroid, bodies.radius
+    face_ptr, face_normal, face_offset = shapes.face_ptr, shapes.face_normal, shapes.face_offset
     a = node_block[i]
     x0, x1, x2 = _node_world(i, node_block, node_r0, pos, rot)
     count = 0
@@ -82,11 +78,10 @@ def node_candidate_count(
 
 
 @njit(cache=True)
-def build_pairs(
-    node_block, node_r0, pos, rot, ref_centroid, radius, face_ptr, face_normal, face_offset,
-    weight, margin,
-):  # fmt: skip
+def build_pairs(nodes, pos, rot, bodies, shapes, margin):
     """All entries within ``margin`` (two passes: count, then fill).
+
+    Parameters are those of :func:`node_candidate_count` without the node and scratch.
 
     Returns
     -------
@@ -94,15 +89,13 @@ def build_pairs(
         Sorted by node, then block.
     pair_weight : (m,) float64
     """
+    node_block, weight = nodes.block, nodes.weight
     n_nodes = node_block.shape[0]
     n_blocks = pos.shape[0]
     scratch = np.empty(n_blocks, dtype=np.int64)
     counts = np.zeros(n_nodes, dtype=np.int64)
     for i in range(n_nodes):
-        counts[i] = node_candidate_count(
-            i, node_block, node_r0, pos, rot, ref_centroid, radius, face_ptr, face_normal,
-            face_offset, weight, margin, scratch,
-        )  # fmt: skip
+        counts[i] = node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, scratch)
     total = 0
     for i in range(n_nodes):
         total += counts[i]
@@ -113,10 +106,7 @@ def build_pairs(
     for i in range(n_nodes):
         if counts[i] == 0:
             continue
-        c = node_candidate_count(
-            i, node_block, node_r0, pos, rot, ref_centroid, radius, face_ptr, face_normal,
-            face_offset, weight, margin, scratch,
-        )  # fmt: skip
+        c = node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, scratch)
         a = node_block[i]
         for j in range(c):
             pair_node[k] = i

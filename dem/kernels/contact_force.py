@@ -31,6 +31,8 @@ from dem.kernels.signed_distance import convex_sdf_one, level_set_sdf_one
 
 MU_RULE_MEAN = 0
 MU_RULE_MIN = 1
+ENTRY_CHUNK = 512
+"""Entries per parallel chunk."""
 
 
 @njit(cache=True)
@@ -113,96 +115,49 @@ def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, bet
 
 
 @njit(cache=True)
-def contact_entries(
-    e_begin,
-    e_end,
-    pair_node,
-    pair_block,
-    pair_weight,
-    pair_shear,
-    node_block,
-    node_r0,
-    node_n0,
-    node_area,
-    pos,
-    rot,
-    vel,
-    omega,
-    ref_centroid,
-    face_ptr,
-    face_normal,
-    face_offset,
-    use_level_set,
-    ls_origin,
-    ls_spacing,
-    ls_dims,
-    ls_ptr,
-    ls_values,
-    block_mu,
-    mu_rule,
-    compat_cos,
-    edge_tol,
-    k_n,
-    k_t,
-    beta,
-    dt,
-    out_force,
-    out_point,
-    out_depth,
-):
+def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law, dt, scratch):
     """Forces of entries ``e_begin:e_end``; updates their shear and writes their output rows.
 
     Parameters
     ----------
     e_begin, e_end : int
         Range of entries.
-    pair_node, pair_block : (m,) int64
-        Node and neighbour block of each entry.
-    pair_weight : (m,) float64
-        Counting weight ``w`` (1, 1/2 or 0).
-    pair_shear : (m, 3) float64
-        Shear displacement history [m] (updated in place).
-    node_block : (n_nodes,) int64
-        Owner block of each node.
-    node_r0 : (n_nodes, 3) float64
-        Node offset from its block's centroid in the reference frame [m].
-    node_n0 : (n_nodes, 3) float64
-        Outward normal of the node's face in the reference frame.
-    node_area : (n_nodes,) float64
-        Tributary area [m^2].
-    pos, vel, omega : (n_blocks, 3) float64
-        Centroid [m], velocity [m/s], angular velocity (world frame) [rad/s].
-    rot : (n_blocks, 3, 3) float64
-        Rotation matrices of the blocks.
-    ref_centroid : (n_blocks, 3) float64
-        Centroids in the reference configuration [m].
-    face_ptr, face_normal, face_offset
-        Face planes of all blocks in the reference frame (CSR by block).
-    use_level_set : bool
-        Use the level-set grids instead of the face planes.
-    ls_origin (n_blocks, 3), ls_spacing (n_blocks,), ls_dims (n_blocks, 3), ls_ptr, ls_values
-        Level-set grids (ignored unless ``use_level_set``).
-    block_mu : (n_blocks,) float64
-        Friction coefficient of each block; ``mu_rule`` combines a pair (0 mean, 1 min).
-    compat_cos : float
-        Face planes only: a node inside ``b`` takes its penetration and normal from the nearest
-        plane among ``b``'s faces whose normal is within ``acos(compat_cos)`` of the reverse
-        of the node's face normal, provided the node is within ``edge_tol`` of ``b``'s other
-        face planes (falls back to the nearest plane if no face qualifies); a value above 1
-        switches this off (nearest plane always, the exact convex signed distance).
-    edge_tol : float
-        [m], see ``compat_cos``.
-    k_n, k_t : float
-        Normal and tangential penalty [Pa/m].
-    beta : float
-        Stiffness-proportional normal damping [s].
+    nodes : Nodes
+        Surface nodes (``block``, ``r0``, ``n0``, ``area``), see :mod:`dem.explicit.state`.
+    contacts : Contacts
+        The entries (``node``, ``block``, ``weight``) and their shear history ``shear``
+        [m] (updated in place).
+    motion : Motion
+        Block poses and velocities (``pos``, ``vel``, ``omega``; world frame).
+    bodies : Bodies
+        ``ref_centroid`` [m] and ``block_mu`` (the pair's coefficient by ``law.mu_rule``).
+    shapes : Shapes
+        Face planes (CSR by block) or level-set grids (``use_level_set``).
+    law : Law
+        ``k_n``, ``k_t`` [Pa/m], ``beta`` [s], ``mu_rule``, and ``compat_cos``, ``edge_tol``
+        [m]: with face planes, a node inside ``b`` takes its penetration and normal from the
+        nearest plane among ``b``'s faces whose normal is within ``acos(compat_cos)`` of the
+        reverse of the node's face normal, provided the node is within ``edge_tol`` of ``b``'s
+        other face planes (falls back to the nearest plane if no face qualifies); a value
+        above 1 switches this off (nearest plane always, the exact convex signed distance).
     dt : float
         Time step [s].
-    out_force, out_point : (m, 3) float64
-        Force on the node's block [N] and the point it acts at [m].
-    out_depth : (m,) float64
-        Penetration ``d`` [m] (negative: separation, lower bound).
+    scratch : Scratch
+        ``rot`` (n, 3, 3) rotations of the current poses (input); ``out_force``,
+        ``out_point`` (m, 3): force on the node's block [N] and its point [m];
+        ``out_depth`` (m,): penetration ``d`` [m] (negative: separation, lower bound).
     """
+    pair_node, pair_block, pair_weight = contacts.node, contacts.block, contacts.weight
+    pair_shear = contacts.shear
+    node_block, node_r0, node_n0, node_area = nodes.block, nodes.r0, nodes.n0, nodes.area
+    pos, vel, omega, rot = motion.pos, motion.vel, motion.omega, scratch.rot
+    ref_centroid, block_mu = bodies.ref_centroid, bodies.block_mu
+    face_ptr, face_normal, face_offset = shapes.face_ptr, shapes.face_normal, shapes.face_offset
+    ls_origin, ls_spacing, ls_dims = shapes.ls_origin, shapes.ls_spacing, shapes.ls_dims
+    ls_ptr, ls_values, use_level_set = shapes.ls_ptr, shapes.ls_values, shapes.use_level_set
+    k_n, k_t, beta, mu_rule = law.k_n, law.k_t, law.beta, law.mu_rule
+    compat_cos, edge_tol = law.compat_cos, law.edge_tol
+    out_force, out_point, out_depth = scratch.out_force, scratch.out_point, scratch.out_depth
     for e in range(e_begin, e_end):
         i = pair_node[e]
         b = pair_block[e]
@@ -304,97 +259,22 @@ def contact_entries(
 
 
 @njit(cache=True)
-def node_contacts(
-    pair_node,
-    pair_block,
-    pair_weight,
-    pair_shear,
-    node_block,
-    node_r0,
-    node_n0,
-    node_area,
-    pos,
-    rot,
-    vel,
-    omega,
-    ref_centroid,
-    face_ptr,
-    face_normal,
-    face_offset,
-    use_level_set,
-    ls_origin,
-    ls_spacing,
-    ls_dims,
-    ls_ptr,
-    ls_values,
-    block_mu,
-    mu_rule,
-    compat_cos,
-    edge_tol,
-    k_n,
-    k_t,
-    beta,
-    dt,
-    out_force,
-    out_point,
-    out_depth,
-):
+def node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch):
     """Every entry, serially (arguments as :func:`contact_entries` without the range)."""
     contact_entries(
-        0, pair_node.shape[0], pair_node, pair_block, pair_weight, pair_shear, node_block,
-        node_r0, node_n0, node_area, pos, rot, vel, omega, ref_centroid, face_ptr,
-        face_normal, face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr,
-        ls_values, block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta, dt, out_force,
-        out_point, out_depth,
-    )  # fmt: skip
+        0, contacts.node.shape[0], nodes, contacts, motion, bodies, shapes, law, dt, scratch
+    )
 
 
 @njit(cache=True, parallel=True)
-def node_contacts_parallel(
-    pair_node,
-    pair_block,
-    pair_weight,
-    pair_shear,
-    node_block,
-    node_r0,
-    node_n0,
-    node_area,
-    pos,
-    rot,
-    vel,
-    omega,
-    ref_centroid,
-    face_ptr,
-    face_normal,
-    face_offset,
-    use_level_set,
-    ls_origin,
-    ls_spacing,
-    ls_dims,
-    ls_ptr,
-    ls_values,
-    block_mu,
-    mu_rule,
-    compat_cos,
-    edge_tol,
-    k_n,
-    k_t,
-    beta,
-    dt,
-    out_force,
-    out_point,
-    out_depth,
-):
+def node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch):
     """Every entry, in parallel chunks (``prange``); each chunk writes its own rows."""
-    m = pair_node.shape[0]
-    n_chunks = (m + 511) // 512
+    m = contacts.node.shape[0]
+    n_chunks = (m + ENTRY_CHUNK - 1) // ENTRY_CHUNK
     for c in prange(n_chunks):
         contact_entries(
-            c * 512, min(m, (c + 1) * 512), pair_node, pair_block, pair_weight, pair_shear,
-            node_block, node_r0, node_n0, node_area, pos, rot, vel, omega, ref_centroid,
-            face_ptr, face_normal, face_offset, use_level_set, ls_origin, ls_spacing, ls_dims,
-            ls_ptr, ls_values, block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta, dt,
-            out_force, out_point, out_depth,
+            c * ENTRY_CHUNK, min(m, (c + 1) * ENTRY_CHUNK), nodes, contacts, motion, bodies,
+            shapes, law, dt, scratch,
         )  # fmt: skip
 
 
@@ -430,45 +310,25 @@ def accumulate_wrenches(
 
 
 @njit(cache=True)
-def sphere_contacts(
-    ind_block,
-    ind_r0,
-    ind_area,
-    pos,
-    rot,
-    vel,
-    omega,
-    centre,
-    radius,
-    velocity,
-    k_n,
-    beta,
-    force,
-    torque,
-    out_force,
-):
+def sphere_contacts(indenter, motion, rot, centre, beta, force, torque):
     """Frictionless penalty contact of a rigid sphere (the indenter) with block surface nodes.
 
     Parameters
     ----------
-    ind_block : (k,) int64
-        Block of each indenter node.
-    ind_r0 : (k, 3) float64
-        Node offsets from the block centroid, reference frame [m].
-    ind_area : (k,) float64
-        Tributary areas [m^2].
+    indenter : Indenter
+        ``block`` (k,), ``r0`` (k, 3) [m], ``area`` (k,) [m^2] of the indenter nodes; sphere
+        ``radius`` [m], ``velocity`` (3,) [m/s] (for the normal dashpot), penalty ``k_n``
+        [Pa/m]; ``out_force`` (k, 3): force on each node's block [N] (output).
+    motion : Motion
+        Block poses and velocities.
+    rot : (n_blocks, 3, 3) float64
+        Rotations of the current poses.
     centre : (3,) float64
         Sphere centre [m].
-    radius : float
-        [m].
-    velocity : (3,) float64
-        Sphere velocity [m/s] (for the normal dashpot).
-    k_n : float
-        Penalty [Pa/m]; ``beta`` [s] normal damping.
+    beta : float
+        Normal damping [s].
     force, torque : (n_blocks, 3) float64
         Accumulated in place.
-    out_force : (k, 3) float64
-        Force on each node's block [N].
 
     Returns
     -------
@@ -476,6 +336,10 @@ def sphere_contacts(
         Total force on the sphere, z component negated: the indenter load ``P`` [N] (positive
         when the sphere pushes down).
     """
+    ind_block, ind_r0, ind_area = indenter.block, indenter.r0, indenter.area
+    radius, velocity, k_n = indenter.radius, indenter.velocity, indenter.k_n
+    out_force = indenter.out_force
+    pos, vel, omega = motion.pos, motion.vel, motion.omega
     p_total = 0.0
     for e in range(ind_block.shape[0]):
         a = ind_block[e]

@@ -74,10 +74,7 @@ def rotate_quat_one(q, w0, w1, w2, dt):
 
 
 @njit(cache=True)
-def advance_block_one(
-    i, dt, alpha, inv_mass, inertia_ref, inertia_ref_inv, ext_force, ext_torque, restrained,
-    pos, quat, vel, omega, rot, force, torque,
-):  # fmt: skip
+def advance_block_one(i, dt, alpha, bodies, motion, scratch):
     """Advance one free block by one step (see the module docstring).
 
     Parameters
@@ -86,20 +83,23 @@ def advance_block_one(
         Block index.
     dt, alpha : float
         Time step [s], global damping rate [1/s].
-    inv_mass : (n_blocks,) float64
-        Inverse inertial mass [1/kg].
-    inertia_ref, inertia_ref_inv : (n_blocks, 3, 3) float64
-        Inertia about the centroid in the reference frame and its inverse [kg m^2].
-    ext_force, ext_torque : (n_blocks, 3) float64
-        Weight plus dead loads [N], their moments [N m].
-    restrained : (n_blocks, 6) bool
-        Restrained world dofs ``(ux, uy, uz, rx, ry, rz)``.
-    pos, quat, vel, omega : block state, updated in place.
-    rot : (n_blocks, 3, 3) float64
-        Rotation at the start of the step.
-    force, torque : (n_blocks, 3) float64
-        Contact force and moment of this step.
+    bodies : Bodies
+        ``inv_mass`` [1/kg], ``inertia_ref``, ``inertia_ref_inv`` (reference frame) [kg m^2],
+        ``ext_force`` [N], ``ext_torque`` [N m] (weight plus other loads), ``restrained``
+        world dofs ``(ux, uy, uz, rx, ry, rz)``; see :mod:`dem.explicit.state`.
+    motion : Motion
+        Block state, updated in place.
+    scratch : Scratch
+        ``rot`` at the start of the step; ``force``, ``torque``: contact force and moment.
     """
+    inv_mass, inertia_ref, inertia_ref_inv = (
+        bodies.inv_mass,
+        bodies.inertia_ref,
+        bodies.inertia_ref_inv,
+    )
+    ext_force, ext_torque, restrained = bodies.ext_force, bodies.ext_torque, bodies.restrained
+    pos, quat, vel, omega = motion.pos, motion.quat, motion.vel, motion.omega
+    rot, force, torque = scratch.rot, scratch.force, scratch.torque
     m = 1.0 / inv_mass[i]
     for k in range(3):
         f = force[i, k] + ext_force[i, k] - alpha * m * vel[i, k]
@@ -136,15 +136,8 @@ def advance_block_one(
 
 @njit(cache=True)
 def run_steps(
-    n_steps, dt, t, free_blocks, alpha, inv_mass, inertia_ref, inertia_ref_inv, ext_force,
-    ext_torque, restrained, pos, quat, vel, omega, rot, force, torque,
-    ref_centroid, face_ptr, face_normal, face_offset, radius,
-    use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values,
-    node_block, node_r0, node_n0, node_area, pair_node, pair_block, pair_weight, pair_shear,
-    out_force, out_point, out_depth, block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta,
-    parallel,
-    ind_active, ind_block, ind_r0, ind_area, ind_centre0, ind_t0, ind_radius, ind_velocity,
-    k_ind, ind_force, pos_build, quat_build, margin, acc,
+    n_steps, dt, t, alpha, parallel, bodies, shapes, nodes, law, motion, contacts, scratch,
+    indenter, acc,
 ):  # fmt: skip
     """Run up to ``n_steps`` steps; stop early when the neighbour list must be rebuilt.
 
@@ -155,21 +148,18 @@ def run_steps(
         [s].
     t : float
         Time at the start [s].
-    free_blocks : (n_free,) int64
-        Blocks that are integrated.
-    (block, contact and level-set arrays)
-        See :func:`advance_block_one` and :func:`dem.kernels.contact_force.node_contact_one`.
+    alpha : float
+        Global damping rate [1/s].
     parallel : bool
         Evaluate contact entries with ``prange``.
-    ind_active : bool
-        The indenter sphere is present; its centre is
-        ``ind_centre0 + ind_velocity (t - ind_t0)`` [m].
-    ind_block, ind_r0, ind_area, ind_radius, k_ind, ind_force
-        See :func:`dem.kernels.contact_force.sphere_contacts`.
-    pos_build, quat_build : (n_blocks, 3), (n_blocks, 4) float64
-        Poses when the neighbour list was built.
-    margin : float
-        Neighbour-list margin [m].
+    bodies, shapes, nodes, law : Bodies, Shapes, Nodes, Law
+        The model's constants (:mod:`dem.explicit.state`).
+    motion, contacts : Motion, Contacts
+        The state, advanced in place.
+    scratch : Scratch
+        Work arrays.
+    indenter : Indenter
+        When ``active``, its centre is ``centre0 + velocity (t - t0)`` [m].
     acc : (3,) float64
         Out: ``acc[0]`` indenter load ``P`` of the last step [N], ``acc[1]`` += work done by the
         indenter [J], ``acc[2]`` largest ``P`` seen [N].
@@ -185,60 +175,51 @@ def run_steps(
         Time at the end [s].
     """
     centre = np.empty(3)
+    free_blocks = bodies.free_blocks
+    pos, quat, vel = motion.pos, motion.quat, motion.vel
     for step in range(n_steps):
-        quat_to_rot(quat, rot)
-        force[:, :] = 0.0
-        torque[:, :] = 0.0
+        quat_to_rot(quat, scratch.rot)
+        scratch.force[:, :] = 0.0
+        scratch.torque[:, :] = 0.0
         if parallel:
-            node_contacts_parallel(
-                pair_node, pair_block, pair_weight, pair_shear, node_block, node_r0, node_n0,
-                node_area, pos, rot, vel, omega, ref_centroid, face_ptr, face_normal,
-                face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values,
-                block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta, dt, out_force, out_point,
-                out_depth,
-            )  # fmt: skip
+            node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch)
         else:
-            node_contacts(
-                pair_node, pair_block, pair_weight, pair_shear, node_block, node_r0, node_n0,
-                node_area, pos, rot, vel, omega, ref_centroid, face_ptr, face_normal,
-                face_offset, use_level_set, ls_origin, ls_spacing, ls_dims, ls_ptr, ls_values,
-                block_mu, mu_rule, compat_cos, edge_tol, k_n, k_t, beta, dt, out_force, out_point,
-                out_depth,
-            )  # fmt: skip
-        accumulate_wrenches(pair_node, pair_block, node_block, pos, out_force, out_point,
-                            force, torque)  # fmt: skip
-        if ind_active:
+            node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch)
+        accumulate_wrenches(contacts.node, contacts.block, nodes.block, pos, scratch.out_force,
+                            scratch.out_point, scratch.force, scratch.torque)  # fmt: skip
+        if indenter.active:
             for k in range(3):
-                centre[k] = ind_centre0[k] + ind_velocity[k] * (t - ind_t0)
-            p = sphere_contacts(
-                ind_block, ind_r0, ind_area, pos, rot, vel, omega, centre, ind_radius,
-                ind_velocity, k_ind, beta, force, torque, ind_force,
-            )  # fmt: skip
+                centre[k] = indenter.centre0[k] + indenter.velocity[k] * (t - indenter.t0)
+            p = sphere_contacts(indenter, motion, scratch.rot, centre, law.beta, scratch.force,
+                                scratch.torque)  # fmt: skip
             acc[0] = p
-            acc[1] += -p * ind_velocity[2] * dt
+            acc[1] += -p * indenter.velocity[2] * dt
             if p > acc[2]:
                 acc[2] = p
         finite = True
         for j in range(free_blocks.shape[0]):
             i = free_blocks[j]
-            advance_block_one(
-                i, dt, alpha, inv_mass, inertia_ref, inertia_ref_inv, ext_force, ext_torque,
-                restrained, pos, quat, vel, omega, rot, force, torque,
-            )  # fmt: skip
+            advance_block_one(i, dt, alpha, bodies, motion, scratch)
             for k in range(3):
                 if not (math.isfinite(pos[i, k]) and math.isfinite(vel[i, k])):
                     finite = False
         t += dt
         if not finite:
             return step + 1, STATUS_NOT_FINITE, t
-        if needs_rebuild(pos, quat, pos_build, quat_build, radius, margin):
+        if needs_rebuild(pos, quat, contacts.pos_build, contacts.quat_build, bodies.radius,
+                         law.margin):  # fmt: skip
             return step + 1, STATUS_REBUILD, t
     return n_steps, STATUS_DONE, t
 
 
 @njit(cache=True)
-def kinetic_energy(free_blocks, inv_mass, inertia_ref, quat, vel, omega, rot):
-    """Translational plus rotational kinetic energy of the free blocks (inertial masses) [J]."""
+def kinetic_energy(bodies, motion, rot):
+    """Translational plus rotational kinetic energy of the free blocks (inertial masses) [J].
+
+    ``rot`` (n, 3, 3) is overwritten with the rotations of ``motion.quat``.
+    """
+    free_blocks, inv_mass, inertia_ref = bodies.free_blocks, bodies.inv_mass, bodies.inertia_ref
+    quat, vel, omega = motion.quat, motion.vel, motion.omega
     quat_to_rot(quat, rot)
     total = 0.0
     for j in range(free_blocks.shape[0]):

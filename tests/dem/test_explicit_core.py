@@ -179,3 +179,15 @@ def test_nan_inputs_rejected():
     model.vel[1, 0] = float("nan")
     with pytest.raises(SimulationError, match="NaN"):
         model.advance(10)
+
+
+def test_deep_overlap_without_touching_faces_rejected():
+    """A cube sunk half-way into another along its diagonal: no pair of faces is within the
+    margin, so no contact node sees it; the toolkit's geometric check refuses it."""
+    from dem import OverlapError
+
+    scene = Scene.from_convex_blocks(
+        [cube(0.0, 0.0, 0.0), cube(SIDE / 2, SIDE / 2, SIDE / 2)], DENSITY, fixed=[0], mu=0.3
+    )
+    with pytest.raises(OverlapError, match="blocks 0 and 1"):
+        ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4))

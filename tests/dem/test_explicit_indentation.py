@@ -104,7 +104,7 @@ def test_peak_state_is_balanced():
 def test_run_stops_once_block_is_out():
     """Feeding the triangular curve record by record: the stop test fires one confirmation
     length after the closed-form ultimate deflection, and the summary then finds it."""
-    from dem.explicit import _RunState
+    from dem.explicit.indentation import _RunState
 
     ind = IndentationSettings(ultimate_fraction=0.05, out_confirm=0.5)
     delta = np.linspace(0.001, 4.0, 4000)

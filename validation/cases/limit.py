@@ -22,11 +22,11 @@ import warnings
 import numpy as np
 
 from dem.scene import Scene, Supports
-from limit.errors import LimitAnalysisError
+from limit.errors import DeadLoadInfeasibleError, LimitAnalysisError, NoMechanismError
 from limit.estimates import bounds_and_estimates, reduced_friction
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
-from validation.report import RESULTS_DIR, Row
+from validation.report import RESULTS_DIR, Row, output_dir
 
 logger = logging.getLogger(__name__)
 
@@ -44,10 +44,9 @@ RESULTANT_NOTE = (
     "the exact rigid joint (vertex model) has this coupling, the resultant model does not, and "
     "the coupling is bilinear (M3 - (M1 V1 + M2 V2)/c), so no convex resultant law can carry "
     "it exactly. Where rocking bed joints also slide (walls held at a side), the resultant "
-    "upper bound is therefore above the vertex one (Restrepo S11: 0.278 vs 0.173; in the S11 "
-    "resultant solution 506 of 733 joints lie outside the exact set, mostly bed joints "
-    "rocking near an edge with |V| = 0.7-0.9 mu c and almost no M3). Reducing the torsion "
-    "with bending (`torsion_bending`, tangent-plane bound) does not change this (0.2778). The "
+    "upper bound can therefore lie above the vertex one (compare the two models' rows). "
+    "Reducing the torsion with bending (`torsion_bending`, tangent-plane bound) does not "
+    "remove this coupling. The "
     "resultant model is thus not a safe approximation of the rigid joint; it is the matching "
     "bound for the DEM's resultant law, whose admissible set lies inside ours."
 )
@@ -78,7 +77,7 @@ def _bounds_rows(
     unit: float = 1.0,
     unit_label: str = "lambda [-]",
     iterate: bool = True,
-    max_iter: int = 30,
+    max_updates: int = 30,
     est_reference: float | None = None,
     extra: dict | None = None,
 ) -> tuple[list[Row], dict]:
@@ -87,11 +86,21 @@ def _bounds_rows(
     model = settings.interface_model
     t0 = time.perf_counter()
     try:
-        b = bounds_and_estimates(scene, settings, iterate=iterate, max_iter=max_iter)
+        # strict=False: an estimate that breaks the bounds' ordering is shown, flagged by
+        # its `issues`, beside the bounds that stand
+        b = bounds_and_estimates(
+            scene, settings, iterate=iterate, max_updates=max_updates, strict=False
+        )
     except LimitAnalysisError as exc:
         wall = time.perf_counter() - t0
         text = str(exc)
-        kind = "unbounded" if "unbounded" in text else "infeasible" if "falls" in text else "error"
+        kind = (
+            "unbounded"
+            if isinstance(exc, NoMechanismError)
+            else "infeasible"
+            if isinstance(exc, DeadLoadInfeasibleError)
+            else "error"
+        )
         row = Row(
             f"{label} [{model}] upper bound {unit_label}",
             None,
@@ -139,7 +148,7 @@ def _bounds_rows(
                 est_ref,
                 source,
                 it.wall_s,
-                {**settings.to_dict(), "max_iter": max_iter, "omega": it.omega},
+                {**settings.to_dict(), "max_updates": max_updates, "omega": it.omega},
                 {
                     **extra,
                     "kind": "estimate (b), not a bound",
@@ -148,6 +157,7 @@ def _bounds_rows(
                     "n_iter": it.n_iter,
                     "history": [h / unit for h in it.history],
                     "failure": it.failure,
+                    "issues": "; ".join(b.issues),
                 },
             )
         )
@@ -400,8 +410,9 @@ def _save_mechanism(key: str, scene: Scene, result) -> str:
     from limit.mechanism import write_mechanism
 
     try:
-        paths = write_mechanism(scene, result, MECHANISM_DIR / key)
-        return paths["npz"]
+        # into the run's staging directory: moved into place with the table (report.staged)
+        write_mechanism(scene, result, output_dir() / MECHANISM_DIR.name / key)
+        return str((MECHANISM_DIR / key).with_suffix(".npz"))
     except Exception as exc:  # pyvista missing or a write error: the table still stands
         logger.warning("could not write the mechanism of %s: %s", key, exc)
         return ""
@@ -416,7 +427,7 @@ def run_orduna(quick: bool = True):
     summaries = []
     variants = ("translations", "fixed", "out-of-plane")
     fcs = (None, 3.0e6) if quick else (None, 1.0e6, 3.0e6, 10.0e6)
-    max_iter = 10 if quick else 30
+    max_updates = 10 if quick else 30
     for n in (3, 6):
         spec = SPECIMENS[f"orduna-{n}x13"]
         lim, fem = spec.references["limit"], spec.references["fem"]
@@ -436,7 +447,7 @@ def run_orduna(quick: bool = True):
                         settings,
                         reference=lim,
                         source=f"{SEED} Table 1 (Orduna & Lourenco 2005b limit analysis)",
-                        max_iter=max_iter,
+                        max_updates=max_updates,
                         est_reference=lim,
                         extra={
                             "seed_limit": lim,
@@ -529,10 +540,8 @@ def run_orduna(quick: bool = True):
             "Our associated upper bounds lie far above 0.127 / 0.193 (and above the FEM "
             "values): with dilatant (associated) friction the diagonal stair-stepped crack "
             "must open as it slides. The non-associated estimates come down but stay above the "
-            "seed's numbers; estimates are not bounds. The DEM of this repository (fibre law) "
-            "gives 0.40 on the 3 x 13 panel (limit-vs-dem), close to our estimates and far "
-            "from the seed's DEM 0.175: the gap to the seed is in the model of the panel, not "
-            "in the bounds.",
+            "seed's numbers; estimates are not bounds. The DEM of this repository on the same "
+            "panels is compared with these bounds in the `limit-vs-dem` case.",
             "",
             RESULTANT_NOTE,
         ]
@@ -551,7 +560,7 @@ def _table_rows(table: str, quick: bool):
     rows: list[Row] = []
     specs = [s for s in SPECIMENS.values() if s.table == table]
     pressure = table == "Table 3"
-    max_iter = 3 if quick else 30
+    max_updates = 3 if quick else 30
     for spec in specs:
         variants = [("", spec.build())]
         if table == "Table 2" and spec.supports != "base+beams":
@@ -568,7 +577,7 @@ def _table_rows(table: str, quick: bool):
                     unit=KPA if pressure else 1.0,
                     unit_label="p [kN/m^2]" if pressure else "lambda [-]",
                     iterate=True,
-                    max_iter=max_iter,
+                    max_updates=max_updates,
                     extra={
                         "seed_dem": spec.seed_dem,
                         **spec.references,
@@ -596,10 +605,10 @@ def run_restrepo(quick: bool = True):
         "upper bound below the experiment means the specimen model misses a restraint or load "
         "of the test (S32: the builder now holds the top course out of plane by the beams, "
         "an assumption of dem.scenes.seed001_walls). With the return walls as blocks "
-        "(RESTREPO_RETURN_BLOCKS = 3 blocks long, free) several specimens share one upper "
-        "bound (0.1827 for S13, S23, S34; 0.2173 for S15, S5): the short free-standing return "
-        "wall itself overturns first, so the bound is below the experiment for S6, S1-S2-S3 "
-        "and S5; the tested return walls were held better than that model.\n\n" + RESULTANT_NOTE
+        "(RESTREPO_RETURN_BLOCKS = 3 blocks long, free) specimens can share one upper bound "
+        "(see the rows): where the short free-standing return wall itself overturns first, "
+        "the bound falls below the experiment; the tested return walls were held better than "
+        "that model.\n\n" + RESULTANT_NOTE
     )
     return rows, notes
 
@@ -649,7 +658,7 @@ def run_vs_dem(quick: bool = True):
             settings = _joint_settings(spec, our_model)
             t = time.perf_counter()
             try:
-                b = bounds_and_estimates(scene, settings, iterate=not quick, max_iter=30)
+                b = bounds_and_estimates(scene, settings, iterate=not quick, max_updates=30)
                 upper, est_a = b.upper, b.reduced_mu
                 est_b = None if b.iterative is None else b.iterative.lam
                 lower = b.lower

@@ -1,0 +1,54 @@
+"""Explicit LS-DEM-style dynamics of rigid convex blocks (seed 000).
+
+The model (seed 000, Sec. 2): rigid blocks (6 dofs each, quaternions), fixed blocks not
+integrated, contact by surface nodes with tributary areas and a traction penalty ``k_n d A n``
+(Eq. (2)), regularised Coulomb friction with shear history (Eq. (1)), global viscous damping
+and an explicit (symplectic Euler) time step chosen from the stiffness and masses present.
+
+Modules, one concern each:
+
+- :mod:`~dem.explicit.settings`: frozen settings of the solver and of each driver;
+- :mod:`~dem.explicit.model`: the scene prepared for dynamics (time step, neighbour list,
+  advance, relaxation);
+- :mod:`~dem.explicit.indentation`: the sphere-indentation driver (seed 000) with checkpoints;
+- :mod:`~dem.explicit.lateral`: the tilting-table / live-load driver to collapse;
+- :mod:`~dem.explicit.results`: result objects and post-processing.
+"""
+
+from dem.explicit.indentation import simulate_indentation
+from dem.explicit.lateral import LiveLoadRamp, MotionCriteria, TiltingTable, simulate_lateral
+from dem.explicit.model import ExplicitModel
+from dem.explicit.results import (
+    IndentationResult,
+    LateralResult,
+    curve_summary,
+    export_peak_state,
+    interface_resultants,
+)
+from dem.explicit.settings import (
+    ExplicitSettings,
+    IndentationSettings,
+    RelaxationSettings,
+    SimulationError,
+)
+from dem.explicit.stiffness import k_n_from_material, masonry_settings
+
+__all__ = [
+    "ExplicitModel",
+    "ExplicitSettings",
+    "IndentationResult",
+    "IndentationSettings",
+    "LateralResult",
+    "LiveLoadRamp",
+    "MotionCriteria",
+    "RelaxationSettings",
+    "SimulationError",
+    "TiltingTable",
+    "curve_summary",
+    "export_peak_state",
+    "interface_resultants",
+    "k_n_from_material",
+    "masonry_settings",
+    "simulate_indentation",
+    "simulate_lateral",
+]

@@ -1,0 +1,347 @@
+"""Lateral load to collapse: a tilting table or a ramped and held live load.
+
+The scene is first relaxed under its dead load. Then the load multiplier ``lambda`` is raised
+in steps: each step ramps the load at a slow rate to the next value and holds it, and the
+blocks are judged at the end of the hold (:class:`MotionCriteria`):
+
+- *stable*: every free block is at rest (speed below ``speed_tol``) and none moved more than
+  ``displacement_tol`` during the step;
+- *moving*: otherwise (a block still moves after ``max_hold``, or it moved more than
+  ``displacement_tol``).
+
+On the first moving step the state of the last stable step is restored and the step is halved
+(``refinements`` times), so the bracket ``lambda_stable < lambda* <= lambda_moving`` closes to
+``step / 2^refinements``. A block just past its threshold by ``epsilon`` in ``lambda``
+accelerates at about ``g epsilon``; it is seen as moving when ``g epsilon hold > speed_tol``, so
+the bracket can sit above ``lambda*`` by at most ``speed_tol / (g hold)`` (stated in the
+result as ``detection_lambda``).
+
+Load patterns (:class:`TiltingTable`, :class:`LiveLoadRamp`) say what ``lambda`` means:
+
+- Tilting table (Restrepo-Velez et al. 2014, seed 001 Table 2): gravity turned by ``theta``
+  about a horizontal axis, ``g (sin theta d - cos theta e_z)`` with ``d`` the horizontal
+  direction of the tilt; ``lambda = tan theta``. For rigid blocks with Coulomb friction the
+  collapse depends on the direction of the total load only, so ``tan theta`` is the multiplier of
+  a live load equal to the weight along ``d`` (what the static DEM and limit analysis compute).
+- Live load: the dead load plus ``lambda`` times the scene's live pattern
+  ``scene.loads.live_wrench``.
+
+Global viscous damping is switched off during loading by default: mass-proportional damping
+resists rigid-body motion itself (a sliding block would creep at ``a / alpha``) and would hide
+the mechanism; the contact dashpots damp the contact vibrations.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import asdict, dataclass
+from typing import Protocol
+
+import numpy as np
+
+from dem.explicit.model import ExplicitModel
+from dem.explicit.results import LateralResult
+from dem.explicit.settings import ExplicitSettings, RelaxationSettings
+from dem.explicit.stiffness import masonry_settings
+from dem.scene import Scene, weight_wrench
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class MotionCriteria:
+    """When a block counts as moving (thresholds relative to the scene's block size).
+
+    With ``size`` the median cube root of the free blocks' volumes [m] and ``g`` the gravity:
+
+    Attributes
+    ----------
+    speed_fraction : float
+        ``speed_tol = speed_fraction sqrt(g size)`` [m/s]; a block's speed is
+        ``|v| + |omega| R`` (the fastest point of its bounding sphere). Default 1e-3.
+    displacement_fraction : float
+        ``displacement_tol = displacement_fraction size`` [m]; a block's displacement is
+        ``|c - c_0| + R angle`` (the farthest point). Default 1e-3.
+    """
+
+    speed_fraction: float = 1e-3
+    displacement_fraction: float = 1e-3
+
+    def __post_init__(self):
+        for name in ("speed_fraction", "displacement_fraction"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and 0 < value < 1):
+                raise ValueError(f"MotionCriteria.{name} must be in (0, 1), got {value}")
+
+
+@dataclass(frozen=True)
+class _Schedule:
+    """Ramp-and-hold steps of ``lambda`` (shared by both load patterns).
+
+    Attributes
+    ----------
+    step : float
+        First increment of ``lambda``; default 0.05.
+    hold : float or None
+        Hold at each value [s]; None: ``2 sqrt(H / g)`` with ``H`` the height of the free
+        blocks (a few periods of the slowest rigid-body motion).
+    ramp : float or None
+        Time to ramp from one value to the next [s]; None: ``hold``.
+    max_hold : float
+        Longest hold, as a multiple of ``hold``, while blocks have not come to rest; default 3.
+    max_lambda : float
+        Stop without collapse at this multiplier; default 1.
+    refinements : int
+        Halvings of the step after the first moving one; default 4.
+    criteria : MotionCriteria
+    """
+
+    step: float = 0.05
+    hold: float | None = None
+    ramp: float | None = None
+    max_hold: float = 3.0
+    max_lambda: float = 1.0
+    refinements: int = 4
+    criteria: MotionCriteria = MotionCriteria()
+
+    def __post_init__(self):
+        positive = {"step": self.step, "max_lambda": self.max_lambda}
+        positive.update({k: v for k, v in (("hold", self.hold), ("ramp", self.ramp)) if v})
+        for name, value in positive.items():
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be finite and positive, got {value}")
+        for name in ("hold", "ramp"):
+            value = getattr(self, name)
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be finite and positive [s], got {value}")
+        if not (math.isfinite(self.max_hold) and self.max_hold >= 1):
+            raise ValueError(f"max_hold must be >= 1 (a multiple of hold), got {self.max_hold}")
+        if int(self.refinements) != self.refinements or self.refinements < 0:
+            raise ValueError(f"refinements must be an integer >= 0, got {self.refinements}")
+
+
+class LoadPattern(Protocol):
+    """What a driver does to the external load as ``lambda`` changes."""
+
+    def wrench(self, scene: Scene, lam: float) -> np.ndarray:
+        """(n_blocks, 6) external forces and moments at multiplier ``lam`` [N, N m]."""
+
+
+@dataclass(frozen=True)
+class TiltingTable(_Schedule):
+    """Gravity turned about a horizontal axis; ``lambda = tan(theta)``.
+
+    Attributes
+    ----------
+    direction : (3,) tuple
+        Horizontal direction ``d`` towards which the table tilts (the lateral component of
+        gravity points along it); default the scene's live-load direction if it has one,
+        else ``+y``.
+    """
+
+    direction: tuple | None = None
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.direction is not None:
+            d = np.asarray(self.direction, dtype=float)
+            if d.shape != (3,) or not np.all(np.isfinite(d)) or abs(d[2]) > 1e-12 or not d.any():
+                raise ValueError(
+                    f"TiltingTable.direction must be a non-zero horizontal 3-vector, got "
+                    f"{self.direction}"
+                )
+
+    def wrench(self, scene: Scene, lam: float) -> np.ndarray:
+        g = float(np.linalg.norm(scene.loads.gravity))
+        theta = math.atan(lam)
+        gravity = g * (math.sin(theta) * self.unit_direction(scene) - math.cos(theta) * _EZ)
+        return weight_wrench(scene.assembly, gravity) + scene.loads.dead_wrench
+
+    def unit_direction(self, scene: Scene) -> np.ndarray:
+        """The horizontal unit vector ``d``."""
+        if self.direction is not None:
+            d = np.asarray(self.direction, dtype=float)
+            return d / np.linalg.norm(d)
+        live = scene.loads.live_wrench[:, :3].sum(axis=0)
+        live[2] = 0.0
+        if np.linalg.norm(live) > 0:
+            return live / np.linalg.norm(live)
+        return np.array([0.0, 1.0, 0.0])
+
+
+@dataclass(frozen=True)
+class LiveLoadRamp(_Schedule):
+    """Dead load plus ``lambda`` times ``scene.loads.live_wrench``."""
+
+    def wrench(self, scene: Scene, lam: float) -> np.ndarray:
+        if not np.any(scene.loads.live_wrench):
+            raise ValueError(f"scene {scene.name!r} has no live load: use TiltingTable")
+        return scene.dead_wrench + lam * scene.loads.live_wrench
+
+
+_EZ = np.array([0.0, 0.0, 1.0])
+
+
+def simulate_lateral(
+    scene: Scene,
+    settings: ExplicitSettings | None = None,
+    driver: TiltingTable | LiveLoadRamp | None = None,
+    relaxation: RelaxationSettings | None = None,
+) -> LateralResult:
+    """Relax a scene, then raise a lateral load in ramp-and-hold steps until blocks move.
+
+    Parameters
+    ----------
+    scene : Scene
+    settings : ExplicitSettings, optional
+        Default :func:`dem.explicit.stiffness.masonry_settings` (``k_n = E / L`` from the
+        blocks, nodes reaching the block edges, no global damping).
+    driver : TiltingTable or LiveLoadRamp, optional
+        Default ``TiltingTable()``.
+    relaxation : RelaxationSettings, optional
+
+    Returns
+    -------
+    LateralResult
+        ``collapsed`` is True only if a moving step was found below ``max_lambda``.
+
+    Raises
+    ------
+    SimulationError
+        A block or group of blocks has no support (named), or the run blew up.
+    """
+    wall0 = time.perf_counter()
+    settings = settings or masonry_settings(scene)
+    driver = driver or TiltingTable()
+    relaxation = relaxation or RelaxationSettings(max_steps=400000)
+    model = ExplicitModel(scene, settings)
+    model.set_external_wrench(driver.wrench(scene, 0.0))
+    relax_info = model.relax(relaxation)
+    run = _RampHold(model, driver, scene)
+    outcome = run.to_collapse()
+    return LateralResult(
+        collapsed=outcome["collapsed"],
+        lambda_stable=outcome["lambda_stable"],
+        lambda_moving=outcome["lambda_moving"],
+        moving_blocks=outcome["moving_blocks"],
+        record_lambda=np.asarray(run.rec_lambda),
+        record_displacement=np.asarray(run.rec_disp),
+        record_time=np.asarray(run.rec_time),
+        record_stable=np.asarray(run.rec_stable, dtype=bool),
+        detection_lambda=run.detection_lambda,
+        speed_tol=run.speed_tol,
+        displacement_tol=run.disp_tol,
+        wall_s=time.perf_counter() - wall0,
+        settings=asdict(settings),
+        driver={"kind": type(driver).__name__, **_plain(asdict(driver))},
+        info={
+            "dt": model.dt,
+            "omega_max": model.omega_max,
+            "n_nodes": model.nodes.n_nodes,
+            "relax": relax_info,
+            "steps": run.steps,
+            "hold_s": run.hold,
+            "ramp_s": run.ramp,
+        },  # fmt: skip
+    )
+
+
+def _plain(d: dict) -> dict:
+    return {k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items()}
+
+
+class _RampHold:
+    """The ramp-and-hold loop with bisection of the first moving step (module docstring)."""
+
+    def __init__(self, model: ExplicitModel, driver, scene: Scene):
+        self.model, self.driver, self.scene = model, driver, scene
+        free = model.free_blocks
+        g = float(np.linalg.norm(scene.loads.gravity)) or 9.81
+        size = float(np.median(np.cbrt(scene.assembly.volume[free])))
+        height = float(np.ptp(scene.assembly.arrays.vertices[:, 2])) or size
+        crit = driver.criteria
+        self.speed_tol = crit.speed_fraction * math.sqrt(g * size)
+        self.disp_tol = crit.displacement_fraction * size
+        self.hold = driver.hold if driver.hold is not None else 2.0 * math.sqrt(height / g)
+        self.ramp = driver.ramp if driver.ramp is not None else self.hold
+        self.detection_lambda = self.speed_tol / (g * self.hold)
+        self.ref_pos = model.pos.copy()
+        self.ref_quat = model.quat.copy()
+        self.rec_lambda, self.rec_disp, self.rec_time, self.rec_stable = [], [], [], []
+        self.steps = 0
+
+    def to_collapse(self) -> dict:
+        """Step ``lambda`` up to the first moving step, then bisect the bracket."""
+        driver = self.driver
+        lam, n_stable, halvings = 0.0, 0, 0
+        lam_moving, moving_blocks = math.nan, np.zeros(0, dtype=np.int64)
+        saved = self.model.snapshot()
+        while True:
+            if math.isnan(lam_moving):
+                target = min(driver.step * (n_stable + 1), driver.max_lambda)
+            elif halvings < driver.refinements:
+                halvings += 1
+                target = 0.5 * (lam + lam_moving)
+            else:
+                break
+            stable, moving = self._step(lam, target)
+            self._record(target, stable)
+            if stable:
+                lam, n_stable = target, n_stable + 1
+                saved = self.model.snapshot()
+                if math.isnan(lam_moving) and lam >= driver.max_lambda:
+                    logger.info("no block moved up to lambda=%.4g", lam)
+                    break
+            else:
+                lam_moving, moving_blocks = target, moving
+                if halvings < driver.refinements:
+                    self.model.restore(saved)
+        return {
+            "collapsed": math.isfinite(lam_moving),
+            "lambda_stable": lam,
+            "lambda_moving": lam_moving,
+            "moving_blocks": moving_blocks,
+        }
+
+    def _step(self, lam0: float, lam1: float) -> tuple[bool, np.ndarray]:
+        """Ramp from ``lam0`` to ``lam1`` and hold; (stable, moving blocks)."""
+        model = self.model
+        start_pos, start_quat = model.pos.copy(), model.quat.copy()
+        n_ramp = max(1, round(self.ramp / model.dt))
+        chunk = max(1, min(model.settings.chunk_steps, n_ramp))
+        done = 0
+        while done < n_ramp:
+            n = min(chunk, n_ramp - done)
+            frac = (done + n) / n_ramp
+            model.set_external_wrench(self.driver.wrench(self.scene, lam0 + frac * (lam1 - lam0)))
+            self._advance(n)
+            done += n
+        n_hold = max(1, round(self.hold / model.dt))
+        self._advance(n_hold)
+        extra, n_max = 0, round((self.driver.max_hold - 1.0) * n_hold)
+        while True:
+            disp = model.block_displacement(start_pos, start_quat)
+            speed = model.block_speed()
+            moved = disp > self.disp_tol
+            fast = speed > self.speed_tol
+            if np.any(moved) or extra >= n_max:
+                break
+            if not np.any(fast):
+                return True, np.zeros(0, dtype=np.int64)
+            n = min(n_hold, n_max - extra)
+            self._advance(n)
+            extra += n
+        return False, np.flatnonzero(moved | fast).astype(np.int64)
+
+    def _advance(self, n: int) -> None:
+        self.model.advance(n)
+        self.steps += n
+
+    def _record(self, lam: float, stable: bool) -> None:
+        disp = self.model.block_displacement(self.ref_pos, self.ref_quat)
+        self.rec_lambda.append(lam)
+        self.rec_disp.append(float(disp.max()) if len(disp) else 0.0)
+        self.rec_time.append(self.model.t)
+        self.rec_stable.append(stable)

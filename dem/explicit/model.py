@@ -1,0 +1,523 @@
+"""The explicit model: a scene prepared for dynamics (nodes, time step, neighbour list, advance).
+
+The model holds the constant groups of arrays the kernels take (:class:`~dem.explicit.state.Bodies`,
+:class:`~dem.explicit.state.Shapes`, :class:`~dem.explicit.state.Nodes`,
+:class:`~dem.explicit.state.Law`) and one :class:`~dem.explicit.state.ExplicitState`, the part
+that evolves; drivers advance it, snapshot and restore it, and checkpoints hold it.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import time
+
+import numpy as np
+import scipy.sparse
+import scipy.sparse.csgraph
+import scipy.spatial
+
+from dem.contact_nodes import FACE_ANGLE_DEG, ContactNodes, build_level_sets, seed_contact_nodes
+from dem.explicit.settings import (
+    EDGE_TOL,
+    INDENTER_NODES_PER_RADIUS_INV,
+    PARALLEL_MIN_ENTRIES,
+    ExplicitSettings,
+    RelaxationSettings,
+    SimulationError,
+)
+from dem.explicit.state import (
+    Bodies,
+    Contacts,
+    ExplicitState,
+    Indenter,
+    Law,
+    Motion,
+    Nodes,
+    Scratch,
+    Shapes,
+)
+from dem.explicit.timestep import choose_time_step, highest_frequency
+from dem.kernels.broadphase import build_pairs, carry_history
+from dem.kernels.contact_force import (
+    MU_RULE_MEAN,
+    MU_RULE_MIN,
+    accumulate_wrenches,
+    elastic_energy,
+    node_contacts,
+    sphere_contacts,
+)
+from dem.kernels.integrate import (
+    STATUS_NOT_FINITE,
+    STATUS_REBUILD,
+    kinetic_energy,
+    quat_to_rot,
+    run_steps,
+)
+from dem.scene import Assembly, Scene
+
+logger = logging.getLogger(__name__)
+
+
+class ExplicitModel:
+    """A scene prepared for explicit dynamics: nodes, flat arrays, time step and state.
+
+    Parameters
+    ----------
+    scene : Scene
+    settings : ExplicitSettings
+    indenter_block : int or None
+        Block whose top face the indenter will load (nodes are seeded under its path).
+    indenter_radius : float
+        [m].
+    indenter_axis_xy : (2,) float, optional
+        ``(x, y)`` of the indenter's vertical path [m]; default the centre of the top face of
+        ``indenter_block``.
+
+    Raises
+    ------
+    OverlapError
+        Blocks interpenetrate in the input (the toolkit's geometric check,
+        :func:`dem.geometry.interfaces.find_interfaces`, which names the pairs and depths).
+    ValueError
+        A forced time step above the stable limit, bad settings, or NaN in the scene.
+    """
+
+    def __init__(
+        self,
+        scene: Scene,
+        settings: ExplicitSettings,
+        indenter_block: int | None = None,
+        indenter_radius: float = 0.0,
+        indenter_axis_xy: np.ndarray | None = None,
+    ):
+        self.scene = scene
+        self.settings = settings
+        asm = scene.assembly
+        asm.interfaces()  # raises OverlapError on interpenetrating blocks
+        self.n_blocks = asm.n_blocks
+        self.fixed = np.asarray(scene.supports.fixed, dtype=bool)
+        self.mass_true = asm.mass.copy()
+        self.inertia_true = asm.inertia.copy()
+        self.bodies = _bodies(scene, settings)
+        self.shapes = _shapes(asm, settings)
+        self.indenter_block = indenter_block
+        axis_xy = None
+        if indenter_block is not None:
+            if not 0 <= indenter_block < self.n_blocks or self.fixed[indenter_block]:
+                raise ValueError(f"indenter block {indenter_block} must be a free block")
+            axis_xy = (
+                self._top_centre(indenter_block)[:2]
+                if indenter_axis_xy is None
+                else np.asarray(indenter_axis_xy, dtype=float)
+            )
+            self._check_axis_hits(indenter_block, axis_xy)
+        self.indenter_axis_xy = axis_xy
+        ind_spacing = settings.indenter_node_spacing
+        if ind_spacing is None:
+            ind_spacing = min(
+                settings.node_spacing, INDENTER_NODES_PER_RADIUS_INV * indenter_radius
+            )
+        self.nodes: ContactNodes = seed_contact_nodes(
+            asm, self.fixed, settings.node_spacing, settings.margin, axis_xy,
+            indenter_radius, ind_spacing, settings.node_layout,
+        )  # fmt: skip
+        ref = self.bodies.ref_centroid
+        self.surface = Nodes(
+            self.nodes.block,
+            np.ascontiguousarray(self.nodes.point - ref[self.nodes.block]),
+            np.ascontiguousarray(self.nodes.normal),
+            self.nodes.area,
+            np.ascontiguousarray(self.nodes.weight),
+        )
+        k = len(self.nodes.indenter_block)
+        self.indenter = Indenter(
+            False, self.nodes.indenter_block,
+            np.ascontiguousarray(self.nodes.indenter_point - ref[self.nodes.indenter_block]),
+            self.nodes.indenter_area, np.zeros(3), 0.0, float(indenter_radius), np.zeros(3),
+            float(settings.k_n), np.zeros((k, 3)),
+        )  # fmt: skip
+        n = self.n_blocks
+        quat = np.zeros((n, 4))
+        quat[:, 0] = 1.0
+        motion = Motion(ref.copy(), quat, np.zeros((n, 3)), np.zeros((n, 3)))
+        empty = Contacts(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0),
+                         np.zeros((0, 3)), ref.copy(), quat.copy())  # fmt: skip
+        self.state = ExplicitState(motion, empty)
+        self.scratch = Scratch.empty(n, 0)
+        self.rebuild()
+        self.state.n_rebuilds = 0
+        with_indenter = indenter_radius > 0 and indenter_block is not None
+        self.omega_max = highest_frequency(
+            self.bodies, self.surface, self.state.contacts, motion.pos, settings.k_n,
+            settings.k_t, self.indenter if with_indenter else None,
+        )  # fmt: skip
+        step = choose_time_step(self.omega_max, settings)
+        self.dt, self.dt_critical = step["dt"], step["dt_critical"]
+        self.alpha, self.beta = step["alpha"], step["beta"]
+        self.law = Law(
+            float(settings.k_n), float(settings.k_t), self.beta,
+            MU_RULE_MIN if settings.mu_rule == "min" else MU_RULE_MEAN,
+            math.cos(math.radians(FACE_ANGLE_DEG)) if settings.contact_plane == "compatible"
+            else 2.0,
+            EDGE_TOL * settings.node_spacing, float(settings.margin),
+        )  # fmt: skip
+        self.parallel = (
+            settings.parallel
+            if settings.parallel is not None
+            else (self.n_entries >= PARALLEL_MIN_ENTRIES and (os.cpu_count() or 1) > 1)
+        )
+
+    # -- views of the state --------------------------------------------------------------------
+    @property
+    def pos(self) -> np.ndarray:
+        """(n_blocks, 3) centroids [m] (the state's array: writes go to the state)."""
+        return self.state.motion.pos
+
+    @property
+    def quat(self) -> np.ndarray:
+        """(n_blocks, 4) quaternions, scalar first."""
+        return self.state.motion.quat
+
+    @property
+    def vel(self) -> np.ndarray:
+        """(n_blocks, 3) velocities [m/s]."""
+        return self.state.motion.vel
+
+    @property
+    def omega(self) -> np.ndarray:
+        """(n_blocks, 3) angular velocities, world frame [rad/s]."""
+        return self.state.motion.omega
+
+    @property
+    def t(self) -> float:
+        """Time [s]."""
+        return self.state.t
+
+    @property
+    def n_entries(self) -> int:
+        """Entries in the neighbour list."""
+        return len(self.state.contacts.node)
+
+    @property
+    def free_blocks(self) -> np.ndarray:
+        return self.bodies.free_blocks
+
+    @property
+    def ref_centroid(self) -> np.ndarray:
+        return self.bodies.ref_centroid
+
+    @property
+    def inv_mass(self) -> np.ndarray:
+        return self.bodies.inv_mass
+
+    @property
+    def inertia_ref(self) -> np.ndarray:
+        return self.bodies.inertia_ref
+
+    def rotations(self) -> np.ndarray:
+        """(n_blocks, 3, 3) rotation matrices of the current quaternions (a new array)."""
+        rot = np.zeros((self.n_blocks, 3, 3))
+        quat_to_rot(self.quat, rot)
+        return rot
+
+    # -- set-up ------------------------------------------------------------------------------
+    def _top_centre(self, i: int) -> np.ndarray:
+        blk = self.scene.assembly.blocks[i]
+        top = int(np.argmax(blk.normals[:, 2]))
+        return blk.vertices[blk.faces[top]].mean(axis=0)
+
+    def _check_axis_hits(self, i: int, axis_xy: np.ndarray) -> None:
+        blk = self.scene.assembly.blocks[i]
+        xy = blk.vertices[:, :2]
+        hull = scipy.spatial.ConvexHull(xy)
+        # inside the block's plan: every hull facet inequality holds
+        if np.any(hull.equations[:, :2] @ axis_xy + hull.equations[:, 2] > 1e-12 * blk.size):
+            lo, hi = xy.min(axis=0), xy.max(axis=0)
+            raise ValueError(
+                f"IndentationSettings.axis_xy = {tuple(axis_xy)} m misses block {i}, whose plan "
+                f"spans x {lo[0]:.4g}..{hi[0]:.4g} m, y {lo[1]:.4g}..{hi[1]:.4g} m"
+            )
+
+    # -- neighbour list ----------------------------------------------------------------------
+    def rebuild(self) -> None:
+        """Rebuild the contact entries and carry the shear history over."""
+        motion, old = self.state.motion, self.state.contacts
+        quat_to_rot(motion.quat, self.scratch.rot)
+        node, block, weight = build_pairs(
+            self.surface, motion.pos, self.scratch.rot, self.bodies, self.shapes,
+            self.settings.margin,
+        )  # fmt: skip
+        shear = np.zeros((len(node), 3))
+        carry_history(old.node, old.block, old.shear, node, block, shear)
+        self.state.contacts = Contacts(node, block, weight, shear, motion.pos.copy(),
+                                       motion.quat.copy())  # fmt: skip
+        self.state.n_rebuilds += 1
+        self.scratch = Scratch.empty(self.n_blocks, len(node))
+
+    # -- loads, motion measures, state ---------------------------------------------------------
+    def set_external_wrench(self, wrench: np.ndarray) -> None:
+        """Replace the external load (weight and other forces) on every block.
+
+        Parameters
+        ----------
+        wrench : (n_blocks, 6) float
+            Forces at the centroids [N] and moments about them [N m] (true, unscaled).
+        """
+        wrench = np.asarray(wrench, dtype=np.float64)
+        if wrench.shape != (self.n_blocks, 6) or not np.all(np.isfinite(wrench)):
+            raise ValueError(
+                f"external wrench must be finite with shape ({self.n_blocks}, 6), got "
+                f"{wrench.shape}"
+            )
+        self.bodies.ext_force[:] = wrench[:, :3]
+        self.bodies.ext_torque[:] = wrench[:, 3:]
+
+    def block_displacement(self, pos0: np.ndarray, quat0: np.ndarray) -> np.ndarray:
+        """(n_blocks,) largest displacement of any point of each block since a pose [m].
+
+        ``|c - c_0| + R angle`` with ``R`` the bounding radius and ``angle`` the rotation
+        since ``(pos0, quat0)`` (an upper bound); zero for fixed blocks.
+        """
+        dq = np.abs(np.einsum("ij,ij->i", self.quat, quat0))
+        angle = 2.0 * np.arccos(np.minimum(1.0, dq))
+        out = np.linalg.norm(self.pos - pos0, axis=1) + self.bodies.radius * angle
+        out[self.fixed] = 0.0
+        return out
+
+    def block_speed(self) -> np.ndarray:
+        """(n_blocks,) ``|v| + |omega| R``: a bound on the speed of any point [m/s]."""
+        spin = np.linalg.norm(self.omega, axis=1) * self.bodies.radius
+        speed = np.linalg.norm(self.vel, axis=1) + spin
+        speed[self.fixed] = 0.0
+        return speed
+
+    def snapshot(self) -> ExplicitState:
+        """A copy of the state (poses, velocities, neighbour list, shear history, time)."""
+        return self.state.copy()
+
+    def restore(self, state: ExplicitState) -> None:
+        """Continue from ``state`` (copied: the argument stays usable)."""
+        self.state = state.copy()
+        self.scratch = Scratch.empty(self.n_blocks, self.n_entries)
+
+    def check_supported(self) -> None:
+        """Refuse free blocks that no chain of contacts connects to a support.
+
+        A support is a fixed block or a block with all three translations restrained. Contacts
+        are the entries of the neighbour list (nodes within ``margin`` of another block).
+
+        Raises
+        ------
+        SimulationError
+            Naming the unsupported blocks (all of them, grouped by connected cluster).
+        """
+        contacts = self.state.contacts
+        a = self.surface.block[contacts.node]
+        anchored = self.fixed | self.bodies.restrained[:, :3].all(axis=1)
+        graph = scipy.sparse.coo_matrix(
+            (np.ones(len(a)), (a, contacts.block)), shape=(self.n_blocks, self.n_blocks)
+        )
+        n_comp, label = scipy.sparse.csgraph.connected_components(graph, directed=False)
+        held = np.zeros(n_comp, dtype=bool)
+        held[label[anchored]] = True
+        loose = np.flatnonzero(~held[label])
+        if len(loose):
+            groups = [np.flatnonzero(label == c).tolist() for c in np.unique(label[loose])]
+            shown = "; ".join(str(g[:20]) + (" ..." if len(g) > 20 else "") for g in groups[:5])
+            raise SimulationError(
+                f"{len(loose)} blocks of scene {self.scene.name!r} have no support: no chain "
+                f"of contacts within the margin ({self.settings.margin:.3e} m) reaches a fixed "
+                f"or restrained block. Unsupported groups: {shown}. Fix the blocks "
+                "(Supports.fixed), restrain them, or bring them into contact"
+            )
+
+    # -- forces ------------------------------------------------------------------------------
+    def evaluate_contacts(self) -> Scratch:
+        """Every entry's force, point and depth at the current state (state unchanged)."""
+        scratch = Scratch.empty(self.n_blocks, self.n_entries)
+        quat_to_rot(self.quat, scratch.rot)
+        contacts = self.state.contacts._replace(shear=self.state.contacts.shear.copy())
+        node_contacts(self.surface, contacts, self.state.motion, self.bodies, self.shapes,
+                      self.law, 0.0, scratch)  # fmt: skip
+        return scratch
+
+    def contact_wrenches(self, sphere: tuple | None = None) -> tuple[np.ndarray, ...]:
+        """Contact forces and moments on every block at the current state (no state change).
+
+        Parameters
+        ----------
+        sphere : (centre (3,), radius, velocity (3,)) or None
+            Include the indenter.
+
+        Returns
+        -------
+        force, torque : (n_blocks, 3)
+            [N], [N m] about the current centroids.
+        entry_force, entry_point : (m, 3)
+            Force on each entry's node block [N] and its point [m].
+        indenter_force : (k, 3)
+            Force of the indenter on each indenter node's block [N].
+        """
+        sc = self.evaluate_contacts()
+        contacts = self.state.contacts
+        accumulate_wrenches(contacts.node, contacts.block, self.surface.block, self.pos,
+                            sc.out_force, sc.out_point, sc.force, sc.torque)  # fmt: skip
+        ind = np.zeros((len(self.indenter.block), 3))
+        if sphere is not None:
+            centre, radius, velocity = sphere
+            indenter = self.indenter._replace(
+                radius=float(radius), velocity=np.asarray(velocity, float), out_force=ind
+            )
+            sphere_contacts(indenter, self.state.motion, sc.rot, np.asarray(centre, float),
+                            self.beta, sc.force, sc.torque)  # fmt: skip
+        return sc.force, sc.torque, sc.out_force, sc.out_point, ind
+
+    def kinetic_energy(self) -> float:
+        """Kinetic energy of the free blocks with the inertial masses [J]."""
+        return float(kinetic_energy(self.bodies, self.state.motion, self.scratch.rot))
+
+    # -- stepping ----------------------------------------------------------------------------
+    def advance(
+        self, n_steps: int, alpha: float | None = None, indenter: dict | None = None
+    ) -> np.ndarray:
+        """Advance ``n_steps`` steps, rebuilding the neighbour list when needed.
+
+        Parameters
+        ----------
+        n_steps : int
+        alpha : float, optional
+            Global damping rate [1/s] (default: the model's).
+        indenter : dict, optional
+            ``centre0`` (3,) [m], ``t0`` [s], ``radius`` [m], ``velocity`` (3,) [m/s].
+
+        Returns
+        -------
+        (3,) float
+            ``[P at the last step, indenter work in these steps, largest P]`` [N, J, N].
+
+        Raises
+        ------
+        SimulationError
+            If the state becomes NaN or inf.
+        """
+        acc = np.zeros(3)
+        alpha = self.alpha if alpha is None else alpha
+        sphere = self.indenter
+        if indenter is not None:
+            sphere = sphere._replace(
+                active=True,
+                centre0=np.asarray(indenter["centre0"], dtype=float),
+                t0=float(indenter["t0"]),
+                radius=float(indenter["radius"]),
+                velocity=np.asarray(indenter["velocity"], dtype=float),
+            )
+        left = int(n_steps)
+        while left > 0:
+            done, status, self.state.t = run_steps(
+                left, self.dt, self.state.t, alpha, self.parallel, self.bodies, self.shapes,
+                self.surface, self.law, self.state.motion, self.state.contacts, self.scratch,
+                sphere, acc,
+            )  # fmt: skip
+            left -= done
+            if status == STATUS_NOT_FINITE:
+                raise SimulationError(
+                    f"the state became NaN or inf at t={self.t:.6e} s: the run blew up "
+                    f"(dt={self.dt:.3e} s, stable limit {self.dt_critical:.3e} s)"
+                )
+            if status == STATUS_REBUILD:
+                self.rebuild()
+        return acc
+
+    def elastic_energy(self, current: bool = False) -> float:
+        """Normal penalty energy ``sum 1/2 k_n d^2 w A`` [J].
+
+        Of the last evaluated step (cheap), or with ``current`` re-evaluated at the present
+        state (for energy balances).
+        """
+        depth = self.evaluate_contacts().out_depth if current else self.scratch.out_depth
+        contacts = self.state.contacts
+        return float(elastic_energy(contacts.node, contacts.weight, self.surface.area, depth,
+                                    self.settings.k_n))  # fmt: skip
+
+    def relax(self, relaxation: RelaxationSettings) -> dict:
+        """Run under gravity until the kinetic energy is below the tolerance.
+
+        Returns
+        -------
+        dict
+            ``steps``, ``kinetic`` [J], ``tolerance`` [J], ``wall_s``.
+        """
+        self.check_supported()
+        start = time.perf_counter()
+        m_free = float(np.sum(1.0 / self.bodies.inv_mass[self.bodies.free_blocks]))
+        tol = 0.5 * m_free * relaxation.ke_speed**2
+        alpha = (
+            self.alpha
+            if relaxation.global_damping is None
+            else 2.0 * relaxation.global_damping * self.omega_max
+        )
+        steps = 0
+        chunk = self.settings.chunk_steps
+        ke = self.kinetic_energy()
+        while True:
+            self.advance(chunk, alpha=alpha)
+            steps += chunk
+            ke = self.kinetic_energy()
+            if steps >= relaxation.min_steps and ke <= tol:
+                break
+            if steps >= relaxation.max_steps:
+                message = (
+                    f"relaxation did not converge in {steps} steps: kinetic energy {ke:.3e} J "
+                    f"> tolerance {tol:.3e} J"
+                )
+                if relaxation.require_convergence:
+                    raise SimulationError(message)
+                logger.warning("%s; going on", message)
+                break
+        return {"steps": steps, "kinetic": ke, "tolerance": tol,
+                "wall_s": time.perf_counter() - start}  # fmt: skip
+
+
+def _bodies(scene: Scene, settings: ExplicitSettings) -> Bodies:
+    """Per-block constants; inertial masses scaled by ``settings.mass_scaling``."""
+    asm = scene.assembly
+    fixed = np.asarray(scene.supports.fixed, dtype=bool)
+    if settings.mu is not None:
+        mu = np.full(asm.n_blocks, settings.mu)
+    elif asm.mu is not None:
+        mu = asm.mu.copy()
+    else:
+        raise ValueError("no friction coefficient: set ExplicitSettings.mu or scene mu")
+    s = settings.mass_scaling
+    inertia = np.ascontiguousarray(asm.inertia * s)
+    dead = scene.dead_wrench
+    return Bodies(
+        free_blocks=np.flatnonzero(~fixed).astype(np.int64),
+        ref_centroid=np.ascontiguousarray(asm.centroid, dtype=np.float64),
+        radius=np.array(
+            [np.linalg.norm(b.vertices - b.centroid, axis=1).max() for b in asm.blocks]
+        ),  # fmt: skip
+        inv_mass=1.0 / (asm.mass * s),
+        inertia_ref=inertia,
+        inertia_ref_inv=np.ascontiguousarray(np.linalg.inv(inertia)),
+        restrained=np.ascontiguousarray(scene.supports.restrained, dtype=np.bool_),
+        block_mu=np.ascontiguousarray(mu, dtype=np.float64),
+        ext_force=np.ascontiguousarray(dead[:, :3]),
+        ext_torque=np.ascontiguousarray(dead[:, 3:]),
+    )
+
+
+def _shapes(asm: Assembly, settings: ExplicitSettings) -> Shapes:
+    """Face planes, and level-set grids if the settings ask for them (else placeholders)."""
+    arrays = asm.arrays
+    n = asm.n_blocks
+    if settings.signed_distance == "level_set":
+        ls = build_level_sets(asm, settings.level_set_spacing, 2 * settings.margin)
+        grids = (ls.origin, ls.spacing, ls.dims, ls.ptr, ls.values)
+    else:
+        grids = (np.zeros((n, 3)), np.ones(n), np.full((n, 3), 2, dtype=np.int64),
+                 np.zeros(n + 1, dtype=np.int64), np.zeros(1))  # fmt: skip
+    return Shapes(arrays.face_ptr, arrays.face_normal, arrays.face_offset,
+                  settings.signed_distance == "level_set", *grids)  # fmt: skip

@@ -1,0 +1,80 @@
+"""Bad input gets an error naming what is wrong: settings, unsupported blocks, indenter axis."""
+
+import numpy as np
+import pytest
+
+from dem.explicit import (
+    ExplicitModel,
+    ExplicitSettings,
+    IndentationSettings,
+    RelaxationSettings,
+    SimulationError,
+    simulate_indentation,
+)
+from dem.scene import Scene
+
+SIDE = 0.01
+
+
+def cube(x, y, z, side=SIDE):
+    return np.array(
+        [[x + i * side, y + j * side, z + k * side] for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+    )
+
+
+def ground():
+    lo, hi = (-0.02, -0.02, -0.01), (0.03, 0.03, 0.0)
+    return np.array(
+        [[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1]) for c in (lo[2], hi[2])]
+    )
+
+
+@pytest.mark.parametrize(
+    ("make", "name"),
+    [
+        (lambda: RelaxationSettings(min_steps=0, max_steps=0), "max_steps"),
+        (lambda: RelaxationSettings(min_steps=10, max_steps=5), "max_steps"),
+        (lambda: RelaxationSettings(global_damping=-0.1), "global_damping"),
+        (lambda: ExplicitSettings(k_n=1e9, global_damping=-0.1), "global_damping"),
+        (lambda: ExplicitSettings(k_n=1e9, contact_damping=-1.0), "contact_damping"),
+        (lambda: ExplicitSettings(k_n=1e9, chunk_steps=0), "chunk_steps"),
+        (lambda: ExplicitSettings(k_n=-1.0), "k_n"),
+        (lambda: IndentationSettings(stop_below_peak_fraction=1.5), "stop_below_peak_fraction"),
+        (lambda: IndentationSettings(ultimate_fraction=0.0), "ultimate_fraction"),
+        (lambda: IndentationSettings(axis_xy=(0.0, float("nan"))), "axis_xy"),
+        (lambda: IndentationSettings(speed=0.0), "speed"),
+    ],
+)
+def test_nonsense_settings_name_the_parameter(make, name):
+    with pytest.raises(ValueError, match=name):
+        make()
+
+
+def test_indenter_axis_missing_the_block_is_refused():
+    """The loaded block's plan is 0..0.01 m: an axis at x = 0.05 m misses it."""
+    scene = Scene.from_convex_blocks([cube(0, 0, 0), ground()], 2500.0, fixed=[1], mu=0.5)
+    with pytest.raises(ValueError, match=r"axis_xy .* misses block 0"):
+        simulate_indentation(
+            scene, ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4),
+            IndentationSettings(block=0, axis_xy=(0.05, 0.005)),
+        )  # fmt: skip
+
+
+def test_floating_block_named_not_relaxation_failure():
+    """Block 1 floats 5 mm above block 0: relaxation is refused naming block 1 (it would
+    otherwise fall forever and end as 'relaxation did not converge')."""
+    scene = Scene.from_convex_blocks(
+        [cube(0, 0, 0), cube(0, 0, 0.015), ground()], 2500.0, fixed=[2], mu=0.5
+    )
+    model = ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4))
+    with pytest.raises(SimulationError, match=r"no support.*\[1\]") as info:
+        model.relax(RelaxationSettings())
+    assert "did not converge" not in str(info.value)
+
+
+def test_scene_without_any_support_named():
+    """Two stacked blocks and nothing fixed: both are named."""
+    scene = Scene.from_convex_blocks([cube(0, 0, 0), cube(0, 0, SIDE)], 2500.0, mu=0.5)
+    model = ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4))
+    with pytest.raises(SimulationError, match=r"2 blocks .*no support.*\[0, 1\]"):
+        model.relax(RelaxationSettings())
