@@ -1,13 +1,15 @@
 """Speed and round-off robustness of the static DEM (seed 001 masonry).
 
-Run ``python benchmarks/bench_static.py [--quick] [--table2] [--kernels [NAMES]]``. Prints
+Run ``python benchmarks/bench_static.py [--quick] [--table2] [--kernels] [--walls S15,S13]``.
+Prints
 
 1. ``--table2``: every Table 2 wall (Restrepo-Velez specimens) to collapse with both interface
    laws and both return-wall models: wall time against the target of 10 s, lambda, termination
    (a run that did not collapse prints its termination, never a lambda);
-2. ``--kernels``: the same runs repeated in subprocesses under the OpenBLAS kernels
-   ``OPENBLAS_CORETYPE = Haswell, SkylakeX, Sandybridge`` (the CPU must support each: AVX2,
-   AVX-512, AVX), and the spread of lambda across them (target 1 %);
+2. ``--kernels``: the same runs (with the validation case's settings) repeated in
+   subprocesses under the OpenBLAS kernels ``OPENBLAS_CORETYPE = Haswell, SkylakeX,
+   Sandybridge`` (the CPU must support each: AVX2, AVX-512, AVX), and the spread of lambda
+   across them (target 1 %); ``python -m validation run masonry-restrepo-kernels`` records it;
 3. by default: S11 to collapse for each law and return-wall model, lambda_max of S11 with the
    load step halved and doubled (1 %), and a scaling table from 100 to 10,000 blocks
    (free-standing running-bond walls): set-up, one evaluation of the interface law plus the
@@ -20,11 +22,7 @@ Times are wall-clock on a shared machine: compare ratios within one run.
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import os
-import subprocess
-import sys
 import time
 
 from dem.scenes.running_bond_wall import running_bond_wall
@@ -34,7 +32,6 @@ from dem.static.model import Model
 from dem.static.newton import Corrector, factor, solve_dead_load
 
 TARGET_S = 10.0
-KERNELS = ("Haswell", "SkylakeX", "Sandybridge")
 LAWS = ("resultant", "fibre")
 VARIANTS = ("fixed_column", "blocks")
 
@@ -84,23 +81,16 @@ def table2(names) -> None:
         print(_line(run_wall(*run)), flush=True)
 
 
-def kernels(names, kernel_names) -> None:
-    """Each run in a subprocess per OpenBLAS kernel; the spread of lambda across kernels."""
-    print(f"== lambda under the OpenBLAS kernels {', '.join(kernel_names)} (target 1 %) ==")
+def kernels(names) -> None:
+    """The spread of lambda across OpenBLAS kernels: the ``masonry-restrepo-kernels`` case's
+    subprocess per kernel (:mod:`validation.cases.masonry`), on the walls ``names``."""
+    from validation.cases.masonry import KERNELS, _run_under_kernel
+
+    print(f"== lambda under the OpenBLAS kernels {', '.join(KERNELS)} (target 1 %) ==")
     for run in table2_runs(names):
-        out = {}
-        for kernel in kernel_names:
-            env = dict(os.environ, OPENBLAS_CORETYPE=kernel)
-            proc = subprocess.run(
-                [sys.executable, __file__, "--one", *run],
-                env=env,
-                capture_output=True,
-                text=True,
-                check=True,
-            )
-            out[kernel] = json.loads(proc.stdout.strip().splitlines()[-1])
-        lams = [r["lam"] for r in out.values()]
-        terms = "/".join(r["termination"] for r in out.values())
+        out = [_run_under_kernel(kernel, *run, quick=False) for kernel in KERNELS]
+        lams = [r["lam"] for r in out]
+        terms = "/".join(r["termination"] for r in out)
         if all(lam is not None for lam in lams):
             spread = (max(lams) - min(lams)) / min(lams)
             values = " / ".join(f"{lam:.5f}" for lam in lams)
@@ -176,21 +166,15 @@ def main(argv=None) -> None:
     parser.add_argument("--quick", action="store_true", help="fewer variants and sizes")
     parser.add_argument("--collapse-max", type=int, default=2000)
     parser.add_argument("--table2", action="store_true", help="every Table 2 wall, both laws")
-    parser.add_argument(
-        "--kernels", nargs="*", default=None, help=f"OpenBLAS kernels (default {KERNELS})"
-    )
+    parser.add_argument("--kernels", action="store_true", help="spread across OpenBLAS kernels")
     parser.add_argument("--walls", default=",".join(RESTREPO_NAMES), help="Table 2 walls")
-    parser.add_argument("--one", nargs=3, help=argparse.SUPPRESS)  # name model variant (child)
     args = parser.parse_args(argv)
     names = args.walls.split(",")
-    if args.one:
-        print(json.dumps(run_wall(*args.one)))
-        return
     if args.table2:
         table2(names)
-    if args.kernels is not None:
-        kernels(names, args.kernels or KERNELS)
-    if args.table2 or args.kernels is not None:
+    if args.kernels:
+        kernels(names)
+    if args.table2 or args.kernels:
         return
     print("== S11 to collapse (target < 10 s) ==")
     for model in LAWS:
