@@ -194,31 +194,6 @@ def test_resultant_compressive_strength_closed_forms():
     assert st & STATE_FLEXURE
 
 
-@pytest.mark.parametrize("seed", range(2))
-def test_resultant_tangent_with_compressive_strength_matches_finite_differences(seed):
-    # the rocking limit's dependence on N through the stress block is in the tangent
-    rng = np.random.default_rng(seed)
-    checked = 0
-    for _ in range(200):
-        q = rng.standard_normal(6) * np.array([1e-6, 4e-6, 4e-6, 2e-4, 2e-4, 2e-4])
-        q[0] = -abs(q[0]) - 2e-6
-        f, _, D, _, st = _law(q, f_c=3e5)
-        Dfd = np.zeros((6, 6))
-        same = True
-        for j in range(6):
-            h = 1e-5 * max(abs(q[j]), 1e-8)
-            fp, *_, stp = _law(q + h * np.eye(6)[j], f_c=3e5)
-            fm, *_, stm = _law(q - h * np.eye(6)[j], f_c=3e5)
-            same &= stp == st and stm == st
-            Dfd[:, j] = (fp - fm) / (2 * h)
-        if not same or not st & STATE_FLEXURE:
-            continue
-        scale = np.maximum(np.abs(D).max(axis=1, keepdims=True), 1e-6 * np.abs(D).max())
-        np.testing.assert_allclose(D / scale, Dfd / scale, atol=1e-4)
-        checked += 1
-    assert checked > 20
-
-
 def test_resultant_interaction_surface_eq_A5():
     n_force = -240.0
     q = np.array([n_force / K6[0], 5e-4, 0, 0, 0, 0.05])
@@ -258,20 +233,25 @@ def test_resultant_return_is_a_fixed_point(q):
     assert abs(flow @ D2 @ flow) <= 1e-9
 
 
+@pytest.mark.parametrize("f_c", [np.inf, 3e5])
 @pytest.mark.parametrize("seed", range(4))
-def test_resultant_tangent_matches_finite_differences(seed):
+def test_resultant_tangent_matches_finite_differences(seed, f_c):
+    # with a compressive strength, the rocking limit's dependence on N through the stress
+    # block is in the tangent too (checked on the states that rock)
     rng = np.random.default_rng(seed)
     checked = 0
     for _ in range(400):
         q = rng.standard_normal(6) * np.array([1e-6, 4e-6, 4e-6, 2e-4, 2e-4, 2e-4])
         q[0] = -abs(q[0]) - 2e-6
-        f, _, D, _, st = _law(q)
+        f, _, D, _, st = _law(q, f_c=f_c)
+        if np.isfinite(f_c) and not st & STATE_FLEXURE:
+            continue
         Dfd = np.zeros((6, 6))
         same = True
         for j in range(6):
             h = 1e-5 * max(abs(q[j]), 1e-8)
-            fp, *_, stp = _law(q + h * np.eye(6)[j])
-            fm, *_, stm = _law(q - h * np.eye(6)[j])
+            fp, *_, stp = _law(q + h * np.eye(6)[j], f_c=f_c)
+            fm, *_, stm = _law(q - h * np.eye(6)[j], f_c=f_c)
             same &= stp == st and stm == st
             Dfd[:, j] = (fp - fm) / (2 * h)
         if not same:
@@ -279,7 +259,7 @@ def test_resultant_tangent_matches_finite_differences(seed):
         scale = np.maximum(np.abs(D).max(axis=1, keepdims=True), 1e-6 * np.abs(D).max())
         np.testing.assert_allclose(D / scale, Dfd / scale, atol=1e-4)
         checked += 1
-    assert checked > 100
+    assert checked > 50
 
 
 # --- the fibre law --------------------------------------------------------------------------
