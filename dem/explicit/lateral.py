@@ -12,9 +12,9 @@ blocks are judged at the end of the hold (:class:`MotionCriteria`):
 On the first moving step the state of the last stable step is restored and the step is halved
 (``refinements`` times), so the bracket ``lambda_stable < lambda* <= lambda_moving`` closes to
 ``step / 2^refinements``. A block just past its threshold by ``epsilon`` in ``lambda``
-accelerates at about ``g epsilon``; it is seen as moving when ``g epsilon hold > speed_tol``, so
-the bracket can sit above ``lambda*`` by at most ``speed_tol / (g hold)`` (stated in the
-result as ``detection_lambda``).
+accelerates at about ``(1 - c) g epsilon`` with ``c`` the local damping; it is seen as moving
+when ``(1 - c) g epsilon hold > speed_tol``, so the bracket can sit above ``lambda*`` by at most
+``speed_tol / ((1 - c) g hold)`` (stated in the result as ``detection_lambda``).
 
 Load patterns (:class:`TiltingTable`, :class:`LiveLoadRamp`) say what ``lambda`` means:
 
@@ -26,9 +26,10 @@ Load patterns (:class:`TiltingTable`, :class:`LiveLoadRamp`) say what ``lambda``
 - Live load: the dead load plus ``lambda`` times the scene's live pattern
   ``scene.loads.live_wrench``.
 
-Global viscous damping is switched off during loading by default: mass-proportional damping
-resists rigid-body motion itself (a sliding block would creep at ``a / alpha``) and would hide
-the mechanism; the contact dashpots damp the contact vibrations.
+The default settings (:func:`dem.explicit.stiffness.masonry_settings`) switch global viscous
+damping off: mass-proportional damping resists rigid-body motion itself (a sliding block would
+creep at ``a / alpha``) and would hide the mechanism. Local damping damps the vibrations
+instead; it slows a mechanism but does not stop it.
 """
 
 from __future__ import annotations
@@ -63,11 +64,12 @@ class MotionCriteria:
         ``|v| + |omega| R`` (the fastest point of its bounding sphere). Default 1e-3.
     displacement_fraction : float
         ``displacement_tol = displacement_fraction size`` [m]; a block's displacement is
-        ``|c - c_0| + R angle`` (the farthest point). Default 1e-3.
+        ``|c - c_0| + R angle`` (the farthest point). Default 1e-2: well above the elastic
+        deflection of a load step, so that motion is told from deformation by the speed.
     """
 
     speed_fraction: float = 1e-3
-    displacement_fraction: float = 1e-3
+    displacement_fraction: float = 1e-2
 
     def __post_init__(self):
         for name in ("speed_fraction", "displacement_fraction"):
@@ -85,8 +87,8 @@ class _Schedule:
     step : float
         First increment of ``lambda``; default 0.05.
     hold : float or None
-        Hold at each value [s]; None: ``2 sqrt(H / g)`` with ``H`` the height of the free
-        blocks (a few periods of the slowest rigid-body motion).
+        Hold at each value [s]; None: ``2 sqrt(size / g)`` with ``size`` the median block size
+        of :class:`MotionCriteria` (the time a block-sized motion needs to show).
     ramp : float or None
         Time to ramp from one value to the next [s]; None: ``hold``.
     max_hold : float
@@ -182,6 +184,9 @@ class LiveLoadRamp(_Schedule):
 
 
 _EZ = np.array([0.0, 0.0, 1.0])
+DEVELOP_FACTOR = 4.0
+"""Once bracketed, the mechanism is followed until a block has moved this many displacement
+thresholds; the blocks past one threshold are the moving blocks."""
 
 
 def simulate_lateral(
@@ -260,13 +265,14 @@ class _RampHold:
         free = model.free_blocks
         g = float(np.linalg.norm(scene.loads.gravity)) or 9.81
         size = float(np.median(np.cbrt(scene.assembly.volume[free])))
-        height = float(np.ptp(scene.assembly.arrays.vertices[:, 2])) or size
         crit = driver.criteria
         self.speed_tol = crit.speed_fraction * math.sqrt(g * size)
         self.disp_tol = crit.displacement_fraction * size
-        self.hold = driver.hold if driver.hold is not None else 2.0 * math.sqrt(height / g)
+        self.hold = driver.hold if driver.hold is not None else 2.0 * math.sqrt(size / g)
         self.ramp = driver.ramp if driver.ramp is not None else self.hold
-        self.detection_lambda = self.speed_tol / (g * self.hold)
+        # near the threshold a block accelerates at (1 - local damping) g epsilon
+        slowed = 1.0 - model.settings.local_damping
+        self.detection_lambda = self.speed_tol / (slowed * g * self.hold)
         self.ref_pos = model.pos.copy()
         self.ref_quat = model.quat.copy()
         self.rec_lambda, self.rec_disp, self.rec_time, self.rec_stable = [], [], [], []
@@ -298,6 +304,8 @@ class _RampHold:
                 lam_moving, moving_blocks = target, moving
                 if halvings < driver.refinements:
                     self.model.restore(saved)
+        if math.isfinite(lam_moving):
+            moving_blocks = self._develop(lam, lam_moving, redo=stable)
         return {
             "collapsed": math.isfinite(lam_moving),
             "lambda_stable": lam,
@@ -305,10 +313,31 @@ class _RampHold:
             "moving_blocks": moving_blocks,
         }
 
+    def _develop(self, lam: float, lam_moving: float, redo: bool) -> np.ndarray:
+        """Let the mechanism at ``lam_moving`` grow to ``DEVELOP_FACTOR`` times the displacement
+        threshold (or for ``max_hold`` holds); the blocks that moved more than the threshold.
+
+        ``redo``: the model is at the last stable step, so ramp to ``lam_moving`` again first.
+        """
+        if redo:
+            self._step(lam, lam_moving)
+        start_pos, start_quat = self.step_start
+        n_check = max(1, round(0.25 * self.hold / self.model.dt))
+        n_max = round(self.driver.max_hold * self.hold / self.model.dt)
+        done = 0
+        disp = self.model.block_displacement(start_pos, start_quat)
+        while disp.max() < DEVELOP_FACTOR * self.disp_tol and done < n_max:
+            self._advance(n_check)
+            done += n_check
+            disp = self.model.block_displacement(start_pos, start_quat)
+        self._record(lam_moving, False)
+        return np.flatnonzero(disp > self.disp_tol).astype(np.int64)
+
     def _step(self, lam0: float, lam1: float) -> tuple[bool, np.ndarray]:
         """Ramp from ``lam0`` to ``lam1`` and hold; (stable, moving blocks)."""
         model = self.model
         start_pos, start_quat = model.pos.copy(), model.quat.copy()
+        self.step_start = (start_pos, start_quat)
         n_ramp = max(1, round(self.ramp / model.dt))
         chunk = max(1, min(model.settings.chunk_steps, n_ramp))
         done = 0
@@ -330,7 +359,7 @@ class _RampHold:
                 break
             if not np.any(fast):
                 return True, np.zeros(0, dtype=np.int64)
-            n = min(n_hold, n_max - extra)
+            n = min(max(1, n_hold // 4), n_max - extra)
             self._advance(n)
             extra += n
         return False, np.flatnonzero(moved | fast).astype(np.int64)

@@ -416,7 +416,8 @@ class ExplicitModel:
         left = int(n_steps)
         while left > 0:
             done, status, self.state.t = run_steps(
-                left, self.dt, self.state.t, alpha, self.parallel, self.bodies, self.shapes,
+                left, self.dt, self.state.t, alpha, self.settings.local_damping, self.parallel,
+                self.bodies, self.shapes,
                 self.surface, self.law, self.state.motion, self.state.contacts, self.scratch,
                 sphere, acc,
             )  # fmt: skip

@@ -145,7 +145,20 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
     scratch : Scratch
         ``rot`` (n, 3, 3) rotations of the current poses (input); ``out_force``,
         ``out_point`` (m, 3): force on the node's block [N] and its point [m];
-        ``out_depth`` (m,): penetration ``d`` [m] (negative: separation, lower bound).
+        ``out_depth`` (m,): penetration ``d`` [m] (negative: separation, lower bound);
+        ``skip_gap``, ``skip_drift`` (m,) and ``drift`` (n,) [m]: see Notes.
+
+    Notes
+    -----
+    Separated entries are skipped while they cannot touch. With face planes, a node at plane
+    distance ``phi > 0`` outside ``b`` must move by at least ``phi`` relative to ``b`` before
+    it can penetrate. ``drift[k]`` accumulates a bound on how far any point of block ``k``
+    within the list's reach has moved (:func:`dem.kernels.integrate.run_steps`); an entry found
+    separated stores ``skip_gap = phi`` and ``skip_drift = drift[a] + drift[b]`` and is not
+    evaluated again until ``drift[a] + drift[b] - skip_drift >= skip_gap``. Its force and
+    shear history are zero meanwhile, as an evaluation would give: the result is exactly that
+    of evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated
+    values). Level sets are not a distance bound: no skipping there.
     """
     pair_node, pair_block, pair_weight = contacts.node, contacts.block, contacts.weight
     pair_shear = contacts.shear
@@ -158,10 +171,14 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
     k_n, k_t, beta, mu_rule = law.k_n, law.k_t, law.beta, law.mu_rule
     compat_cos, edge_tol = law.compat_cos, law.edge_tol
     out_force, out_point, out_depth = scratch.out_force, scratch.out_point, scratch.out_depth
+    skip_gap, skip_drift, drift = scratch.skip_gap, scratch.skip_drift, scratch.drift
     for e in range(e_begin, e_end):
         i = pair_node[e]
         b = pair_block[e]
         a = node_block[i]
+        gap = skip_gap[e]
+        if gap > 0.0 and drift[a] + drift[b] - skip_drift[e] < gap:
+            continue  # still separated: its force and shear history are zero (see Notes)
         r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
         rx = rot[a, 0, 0] * r0x + rot[a, 0, 1] * r0y + rot[a, 0, 2] * r0z
         ry = rot[a, 1, 0] * r0x + rot[a, 1, 1] * r0y + rot[a, 1, 2] * r0z
@@ -233,7 +250,11 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
             out_force[e, 0] = 0.0
             out_force[e, 1] = 0.0
             out_force[e, 2] = 0.0
+            if phi > 0.0 and not use_level_set:
+                skip_gap[e] = phi
+                skip_drift[e] = drift[a] + drift[b]
             continue
+        skip_gap[e] = 0.0
         n0 = rot[b, 0, 0] * g0 + rot[b, 0, 1] * g1 + rot[b, 0, 2] * g2
         n1 = rot[b, 1, 0] * g0 + rot[b, 1, 1] * g1 + rot[b, 1, 2] * g2
         n2 = rot[b, 2, 0] * g0 + rot[b, 2, 1] * g1 + rot[b, 2, 2] * g2

@@ -136,10 +136,13 @@ def test_nonsense_motion_criteria_refused():
 
 
 def test_masonry_settings_kn_from_material():
-    """k_n = E / L: a block of height 0.25 on a fixed base, E = 1 GPa -> 4 GPa/m; nodes on the
-    edges (vertex layout), spacing the smallest block side over 4."""
-    settings = masonry_settings(stack_on_ground(0.1, 0.25, 0.7), young=1e9)
-    np.testing.assert_allclose(settings.k_n, 1e9 / 0.25, rtol=1e-12)
+    """k_n = E / L: a block of height 0.25 on a fixed base, E = 1 GPa -> 4 GPa/m (rigid
+    joints), in series with a joint of 4 GPa/m -> 2 GPa/m; nodes on the edges (vertex
+    layout), spacing the smallest block side over 4."""
+    scene = stack_on_ground(0.1, 0.25, 0.7)
+    np.testing.assert_allclose(masonry_settings(scene, 1e9, None).k_n, 1e9 / 0.25, rtol=1e-12)
+    settings = masonry_settings(scene, young=1e9, joint_stiffness=4e9)
+    np.testing.assert_allclose(settings.k_n, 2e9, rtol=1e-12)
     assert settings.node_layout == "vertex"
     np.testing.assert_allclose(settings.node_spacing, 0.1 / 4, rtol=1e-12)
     assert isinstance(settings, ExplicitSettings)
