@@ -231,6 +231,7 @@ def simulate_lateral(
         lambda_stable=outcome["lambda_stable"],
         lambda_moving=outcome["lambda_moving"],
         moving_blocks=outcome["moving_blocks"],
+        mechanism_confirmed=outcome["mechanism_confirmed"],
         record_lambda=np.asarray(run.rec_lambda),
         record_displacement=np.asarray(run.rec_disp),
         record_time=np.asarray(run.rec_time),
@@ -304,34 +305,45 @@ class _RampHold:
                 lam_moving, moving_blocks = target, moving
                 if halvings < driver.refinements:
                     self.model.restore(saved)
+        confirmed = False
         if math.isfinite(lam_moving):
-            moving_blocks = self._develop(lam, lam_moving, redo=stable)
+            moving_blocks, confirmed = self._develop(lam, lam_moving, redo=stable)
         return {
+            "mechanism_confirmed": confirmed,
             "collapsed": math.isfinite(lam_moving),
             "lambda_stable": lam,
             "lambda_moving": lam_moving,
             "moving_blocks": moving_blocks,
         }
 
-    def _develop(self, lam: float, lam_moving: float, redo: bool) -> np.ndarray:
-        """Let the mechanism at ``lam_moving`` grow to ``DEVELOP_FACTOR`` times the displacement
-        threshold (or for ``max_hold`` holds); the blocks that moved more than the threshold.
+    def _develop(self, lam: float, lam_moving: float, redo: bool) -> tuple[np.ndarray, bool]:
+        """Follow the motion at ``lam_moving`` until a block has moved ``DEVELOP_FACTOR``
+        displacement thresholds (at most ``DEVELOP_FACTOR * max_hold`` holds); returns the
+        blocks that moved more than the threshold or still move faster than ``speed_tol``.
 
         ``redo``: the model is at the last stable step, so ramp to ``lam_moving`` again first.
         """
         if redo:
             self._step(lam, lam_moving)
         start_pos, start_quat = self.step_start
-        n_check = max(1, round(0.25 * self.hold / self.model.dt))
-        n_max = round(self.driver.max_hold * self.hold / self.model.dt)
+        model = self.model
+        n_check = max(1, round(0.25 * self.hold / model.dt))
+        n_max = round(DEVELOP_FACTOR * self.driver.max_hold * self.hold / model.dt)
         done = 0
-        disp = self.model.block_displacement(start_pos, start_quat)
+        disp = model.block_displacement(start_pos, start_quat)
         while disp.max() < DEVELOP_FACTOR * self.disp_tol and done < n_max:
             self._advance(n_check)
             done += n_check
-            disp = self.model.block_displacement(start_pos, start_quat)
+            disp = model.block_displacement(start_pos, start_quat)
         self._record(lam_moving, False)
-        return np.flatnonzero(disp > self.disp_tol).astype(np.int64)
+        moving = (disp > self.disp_tol) | (model.block_speed() > self.speed_tol)
+        confirmed = bool(disp.max() >= DEVELOP_FACTOR * self.disp_tol)
+        if not confirmed:
+            logger.warning(
+                "lambda=%.4g: no block moved %g displacement thresholds while the motion was "
+                "followed; the mechanism is not confirmed", lam_moving, DEVELOP_FACTOR,
+            )  # fmt: skip
+        return np.flatnonzero(moving).astype(np.int64), confirmed
 
     def _step(self, lam0: float, lam1: float) -> tuple[bool, np.ndarray]:
         """Ramp from ``lam0`` to ``lam1`` and hold; (stable, moving blocks)."""

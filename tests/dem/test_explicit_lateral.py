@@ -44,7 +44,7 @@ def stack_on_ground(b, h, mu, n_blocks=1):
 
 
 def assert_brackets(result, expected, driver):
-    assert result.collapsed
+    assert result.collapsed and result.mechanism_confirmed
     width = driver.step / 2**driver.refinements
     assert result.lambda_moving - result.lambda_stable <= width + 1e-12
     assert result.lambda_stable - result.detection_lambda <= expected <= result.lambda_moving

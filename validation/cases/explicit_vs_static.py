@@ -108,6 +108,7 @@ def _explicit(scene: Scene, driver) -> dict:
         "lambda_stable": res.lambda_stable,
         "lambda_moving": res.lambda_moving if res.collapsed else None,
         "collapsed": res.collapsed,
+        "mechanism_confirmed": res.mechanism_confirmed,
         "moving_blocks": res.moving_blocks.tolist(),
         "detection_lambda": res.detection_lambda,
         "speed_tol_m_s": res.speed_tol,
