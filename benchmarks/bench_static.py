@@ -34,7 +34,7 @@ def specimen(quick: bool) -> None:
     spec = SPECIMENS["restrepo-S11"]
     for model, variant in variants:
         scene = restrepo_specimen("S11", variant)
-        settings = StaticSettings(interface_model=model, on_failure="stop")
+        settings = StaticSettings(interface_model=model, on_failure="return")
         solve_collapse(scene, StaticSettings(interface_model=model, max_steps=2))  # compile
         start = time.perf_counter()
         result = solve_collapse(scene, settings)
@@ -56,7 +56,7 @@ def stability(quick: bool) -> None:
         scene = restrepo_specimen("S11", variant)
         lam = {}
         for step in (0.005, 0.01, 0.02):
-            settings = StaticSettings(interface_model=model, load_step=step, on_failure="stop")
+            settings = StaticSettings(interface_model=model, load_step=step, on_failure="return")
             lam[step] = solve_collapse(scene, settings).lambda_max
         spread = max(abs(lam[s] / lam[0.01] - 1) for s in (0.005, 0.02))
         values = "  ".join(f"{s}: {v:.5f}" for s, v in lam.items())

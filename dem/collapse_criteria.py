@@ -4,6 +4,14 @@ The path is the sequence of converged points ``(c, lambda)``: ``c = w . u`` the 
 control displacement [m], ``lambda`` the live-load multiplier. Each point's lambda carries an
 error of order the residual tolerance its step met (``lam_noise``), so slopes are taken over
 stretches of path long enough to resolve that error, not over single short steps.
+
+A slope small against the stiff elastic start is not yet a plateau: slow frictional hardening
+(joints that slide one spring after another, or whose compression grows as they slide) rises
+at a small fraction of the initial slope for a long way (issue 11: a fibre-law path stopped 8 %
+below its limit). The plateau is therefore also judged against the recent path: lambda must
+have risen by less than ``plateau_rise`` of itself since the path had gone half its present
+control displacement. For an approach ``lambda_inf - A e^{-c/tau}`` or ``lambda_inf - A/c`` what
+is left to rise is then below that same fraction.
 """
 
 from __future__ import annotations
@@ -27,6 +35,9 @@ class CollapseCriteria:
         Consecutive plateau steps that end the analysis, if they also span this many ``dc0``.
     softening_drop : float
         End when lambda falls below ``(1 - softening_drop)`` times its peak.
+    plateau_rise : float
+        A plateau also needs lambda to have risen by less than this fraction of itself since
+        the point at half the present control displacement (module notes).
 
     Attributes
     ----------
@@ -43,6 +54,7 @@ class CollapseCriteria:
         plateau_slope: float,
         plateau_steps: int,
         softening_drop: float,
+        plateau_rise: float = 1e-3,
     ):
         if not (math.isfinite(dc0) and dc0 > 0):
             raise ValueError(f"dc0 must be a finite positive length [m], got {dc0!r}")
@@ -51,12 +63,15 @@ class CollapseCriteria:
                 "plateau_slope and softening_drop must lie in [0, 1), got "
                 f"{plateau_slope!r} and {softening_drop!r}"
             )
+        if not (math.isfinite(plateau_rise) and 0 <= plateau_rise < 1):
+            raise ValueError(f"plateau_rise must lie in [0, 1), got {plateau_rise!r}")
         if int(plateau_steps) != plateau_steps or plateau_steps < 1:
             raise ValueError(f"plateau_steps must be an integer >= 1, got {plateau_steps!r}")
         self.dc0 = dc0
         self.plateau_slope = plateau_slope
         self.plateau_steps = plateau_steps
         self.softening_drop = softening_drop
+        self.plateau_rise = plateau_rise
         self.lams = [0.0]
         self.ctrl = [float(c0)]
         self.peak = 0.0
@@ -78,6 +93,15 @@ class CollapseCriteria:
             if c_end - self.ctrl[j] >= window:
                 return (self.lams[-1] - self.lams[j]) / (c_end - self.ctrl[j])
         return None
+
+    def rise_since_half(self) -> float:
+        """Rise of lambda since the last point at no more than half the present control
+        displacement (from the start of the live load)."""
+        half = self.ctrl[0] + 0.5 * (self.ctrl[-1] - self.ctrl[0])
+        for j in range(len(self.ctrl) - 2, -1, -1):
+            if self.ctrl[j] <= half:
+                return self.lams[-1] - self.lams[j]
+        return self.lams[-1] - self.lams[0]
 
     def add(self, lam: float, c: float, lam_noise: float, loose: bool = False) -> str | None:
         """Record a converged point; return ``"plateau"``, ``"softening"``, ``"snap_back"``
@@ -106,7 +130,8 @@ class CollapseCriteria:
             self.n_plateau = 0
             self.c_plateau = 0.0
         long = self.c_plateau >= (1.0 - 1e-9) * self.plateau_steps * self.dc0
-        if self.n_plateau >= self.plateau_steps and long and self.peak > 0:
+        flat = self.rise_since_half() <= self.plateau_rise * abs(lam) + 10.0 * lam_noise
+        if self.n_plateau >= self.plateau_steps and long and flat and self.peak > 0:
             return "plateau"
         if lam < (1.0 - self.softening_drop) * self.peak:
             return "softening"

@@ -8,6 +8,7 @@ centroid [m] and small rotation about the centroid [rad]. Wrenches are ordered t
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -21,6 +22,58 @@ from dem.geometry.polyhedron import ConvexBlock, convex_block, plane_basis
 from dem.units import G
 
 DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+SIZE_RATIO = 100.0
+"""Blocks whose sizes differ by more than this factor get a :class:`MixedUnitsWarning`."""
+DENSITY_RATIO = 500.0
+"""Blocks whose densities differ by more than this factor get a :class:`MixedUnitsWarning`
+(masses follow from sizes and densities; a thin plate's small mass is no units mistake)."""
+
+
+class MixedUnitsWarning(UserWarning):
+    """Block sizes or densities (hence masses) differ by orders of magnitude: a block typed in
+    mm among blocks in m, or a density in t/m^3 among kg/m^3. Filter it when the scene is
+    meant so."""
+
+
+def check_finite(**params) -> None:
+    """Raise ValueError naming the first parameter that holds a NaN or an infinity.
+
+    Parameters
+    ----------
+    **params
+        Numbers or (nested) sequences of numbers, by name; None and non-numeric values are
+        skipped (their own checks apply).
+    """
+    for name, value in params.items():
+        if value is None:
+            continue
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            continue
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"{name} must be finite (no NaN or inf), got {value!r}")
+
+
+def warn_mixed_units(blocks: Sequence[ConvexBlock], density: np.ndarray) -> None:
+    """Warn, naming the blocks, when sizes differ by more than :data:`SIZE_RATIO` or
+    densities by more than :data:`DENSITY_RATIO`."""
+    size = np.array([b.size for b in blocks])
+    for what, values, unit, limit in (
+        ("size", size, "m", SIZE_RATIO),
+        ("density", density, "kg/m^3", DENSITY_RATIO),
+    ):
+        big, small = int(np.argmax(values)), int(np.argmin(values))
+        if values[big] > limit * values[small]:
+            warnings.warn(
+                f"block {big} ({what} {values[big]:.3g} {unit}) and block {small} "
+                f"({what} {values[small]:.3g} {unit}) differ by a factor "
+                f"{values[big] / values[small]:.3g}: are they in the same units (m, kg/m^3)?",
+                MixedUnitsWarning,
+                stacklevel=4,
+            )
+            return
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,6 +107,22 @@ class BlockArrays:
     face_vert: np.ndarray
 
 
+def per_block(name: str, value, n_blocks: int) -> np.ndarray:
+    """``value`` as a ``(n_blocks,)`` float array: one number for every block, or one each."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a number or one number per block, got {value!r}") from exc
+    if arr.ndim == 0:
+        return np.full(n_blocks, float(arr))
+    if arr.shape != (n_blocks,):
+        raise ValueError(
+            f"{name} must be one number or one per block ({n_blocks} blocks), "
+            f"got shape {arr.shape}: got {arr.size} values"
+        )
+    return arr.copy()
+
+
 @dataclass(frozen=True, eq=False)
 class Assembly:
     """Convex rigid blocks with their density and (optional) friction coefficient.
@@ -76,15 +145,18 @@ class Assembly:
         n = len(self.blocks)
         if n == 0:
             raise ValueError("an assembly needs at least one block")
-        density = np.broadcast_to(np.asarray(self.density, dtype=float), (n,)).copy()
+        density = per_block("density", self.density, n)
         if not np.all(np.isfinite(density)) or np.any(density <= 0):
             raise ValueError("density must be finite and positive for every block [kg/m^3]")
         object.__setattr__(self, "density", density)
         if self.mu is not None:
-            mu = np.broadcast_to(np.asarray(self.mu, dtype=float), (n,)).copy()
-            if not np.all(np.isfinite(mu)) or np.any(mu < 0):
-                raise ValueError("friction coefficient mu must be finite and >= 0 for every block")
+            mu = per_block("mu", self.mu, n)
+            if np.any(np.isnan(mu)) or np.any(mu < 0):
+                raise ValueError(
+                    "friction coefficient mu must be >= 0 for every block (inf: no sliding)"
+                )
             object.__setattr__(self, "mu", mu)
+        warn_mixed_units(self.blocks, density)
 
     @classmethod
     def from_convex_blocks(
@@ -171,6 +243,50 @@ class Assembly:
         return find_interfaces(self.blocks)
 
 
+def _kind(x) -> str:
+    if isinstance(x, bool | np.bool_):
+        return "bool"
+    if isinstance(x, int | np.integer):
+        return "int"
+    return type(x).__name__
+
+
+def fixed_mask(n_blocks: int, fixed) -> np.ndarray:
+    """``(n_blocks,)`` bool mask from block indices or a boolean mask.
+
+    Parameters
+    ----------
+    n_blocks : int
+    fixed : sequence of int, or sequence of bool of length ``n_blocks``
+        Integer indices (``numpy`` integers included), or booleans, one per block. Floats,
+        strings, a mix of booleans and integers, or a mask of another length are errors.
+    """
+    items = list(np.asarray(fixed).ravel()) if isinstance(fixed, np.ndarray) else list(fixed)
+    if isinstance(fixed, np.ndarray) and fixed.ndim > 1:
+        raise ValueError(f"fixed must be one-dimensional, got shape {fixed.shape}")
+    kinds = {_kind(x) for x in items}
+    mask = np.zeros(n_blocks, dtype=bool)
+    if not items:
+        return mask
+    if kinds == {"bool"}:
+        if len(items) != n_blocks:
+            raise ValueError(
+                f"fixed given as booleans is a mask and needs one per block ({n_blocks}), "
+                f"got {len(items)}; give integer indices to fix single blocks"
+            )
+        return np.array(items, dtype=bool)
+    if kinds != {"int"}:
+        raise ValueError(
+            "fixed must hold integer block indices or booleans (a mask of length "
+            f"{n_blocks}), got {sorted(kinds)} values: {items[:10]}"
+        )
+    ids = np.array(items, dtype=np.int64)
+    if ids.min() < 0 or ids.max() >= n_blocks:
+        raise ValueError(f"fixed block index out of range 0..{n_blocks - 1}: {ids.tolist()}")
+    mask[ids] = True
+    return mask
+
+
 @dataclass(frozen=True, eq=False)
 class Supports:
     """Which blocks or block dofs are held fixed.
@@ -187,18 +303,25 @@ class Supports:
     fixed: np.ndarray
     restrained: np.ndarray
 
+    def __post_init__(self):
+        for name in ("fixed", "restrained"):
+            arr = np.asarray(getattr(self, name))
+            if arr.dtype != bool:
+                raise ValueError(
+                    f"supports.{name} must be a boolean array, got dtype {arr.dtype}: "
+                    "use Supports.fixed_blocks(n_blocks, indices or mask) for fixed blocks"
+                )
+            object.__setattr__(self, name, arr)
+
     @classmethod
     def none(cls, n_blocks: int) -> Supports:
         return cls(np.zeros(n_blocks, dtype=bool), np.zeros((n_blocks, 6), dtype=bool))
 
     @classmethod
-    def fixed_blocks(cls, n_blocks: int, fixed: Iterable[int]) -> Supports:
-        mask = np.zeros(n_blocks, dtype=bool)
-        ids = np.asarray(list(fixed), dtype=np.int64)
-        if ids.size and (ids.min() < 0 or ids.max() >= n_blocks):
-            raise ValueError(f"fixed block index out of range 0..{n_blocks - 1}: {ids.tolist()}")
-        mask[ids] = True
-        return cls(mask, np.zeros((n_blocks, 6), dtype=bool))
+    def fixed_blocks(cls, n_blocks: int, fixed: Iterable[int] | Sequence[bool]) -> Supports:
+        """Blocks held in place, given as integer indices or as a boolean mask of length
+        ``n_blocks`` (see :func:`fixed_mask`)."""
+        return cls(fixed_mask(n_blocks, fixed), np.zeros((n_blocks, 6), dtype=bool))
 
     @property
     def free_dofs(self) -> np.ndarray:
@@ -292,6 +415,17 @@ def point_load(
     return out
 
 
+def _json_bools(name: str, value, shape: tuple) -> np.ndarray:
+    """A JSON array of true/false of the given shape (nothing else is read as a boolean)."""
+    arr = np.array(value, dtype=object)
+    if arr.shape != shape or not all(isinstance(x, bool) for x in arr.ravel()):
+        raise ValueError(
+            f"scene JSON field {name!r} must be an array of true/false of shape {shape}, "
+            f"got {str(value)[:80]}"
+        )
+    return arr.astype(bool)
+
+
 @dataclass(frozen=True, eq=False)
 class Scene:
     """Blocks, supports and loads: the input of every solver.
@@ -333,7 +467,7 @@ class Scene:
         cls,
         vertex_arrays: Iterable[np.ndarray],
         density: float | Sequence[float],
-        fixed: Iterable[int] = (),
+        fixed: Iterable[int] | Sequence[bool] = (),
         mu: float | Sequence[float] | None = None,
         g: float = G,
         name: str = "scene",
@@ -360,13 +494,35 @@ class Scene:
     def with_loads(
         self, *, dead: np.ndarray | None = None, live: np.ndarray | None = None
     ) -> Scene:
-        """A copy with extra dead and/or live wrenches added (value semantics)."""
+        """A copy with extra dead and/or live wrenches added (value semantics).
+
+        Parameters
+        ----------
+        dead, live : (n_blocks, 6) array_like, optional
+            Wrenches ``(Fx, Fy, Fz, Mx, My, Mz)`` at the block centroids [N, N m]; exactly
+            this shape (nothing is broadcast).
+        """
         loads = Loads(
             self.loads.gravity,
-            self.loads.dead_wrench + (0 if dead is None else np.asarray(dead, dtype=float)),
-            self.loads.live_wrench + (0 if live is None else np.asarray(live, dtype=float)),
+            self.loads.dead_wrench + self._wrench("dead", dead),
+            self.loads.live_wrench + self._wrench("live", live),
         )
         return Scene(self.assembly, self.supports, loads, self.name, self.meta)
+
+    def _wrench(self, name: str, value) -> np.ndarray | float:
+        if value is None:
+            return 0.0
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{name} must be a (n_blocks, 6) array of numbers: {exc}") from exc
+        shape = (self.n_blocks, 6)
+        if arr.shape != shape:
+            raise ValueError(
+                f"{name} must have shape {shape} (one wrench Fx, Fy, Fz, Mx, My, Mz per "
+                f"block), got {arr.shape}"
+            )
+        return arr
 
     def with_supports(self, supports: Supports) -> Scene:
         return Scene(self.assembly, supports, self.loads, self.name, self.meta)
@@ -390,8 +546,10 @@ class Scene:
     @classmethod
     def from_dict(cls, data: dict) -> Scene:
         assembly = Assembly.from_convex_blocks(data["blocks"], data["density"], data["mu"])
+        n = assembly.n_blocks
         supports = Supports(
-            np.array(data["fixed"], dtype=bool), np.array(data["restrained"], dtype=bool)
+            _json_bools("fixed", data["fixed"], (n,)),
+            _json_bools("restrained", data["restrained"], (n, 6)),
         )
         loads = Loads(
             np.array(data["gravity"], dtype=float),

@@ -32,6 +32,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.optimize import linprog
 
 from dem.collapse_criteria import CollapseCriteria
 from dem.geometry.interfaces import Interfaces
@@ -62,11 +63,17 @@ __all__ = [
     "StaticResult",
     "StaticSettings",
     "StaticSolverError",
+    "NoCollapseError",
+    "COLLAPSE_TERMINATIONS",
     "solve_collapse",
     "state_labels",
 ]
 
 INTERFACE_MODELS = ("resultant", "fibre")
+ON_FAILURE = ("raise", "return")
+COLLAPSE_TERMINATIONS = ("plateau", "softening", "snap_back")
+"""Terminations that are a collapse; the others (``"max_steps"``, ``"stalled"``,
+``"no_mechanism"``) are not."""
 
 ALPHA_TABLE_A1 = np.array(
     [
@@ -101,6 +108,31 @@ class StaticSolverError(RuntimeError):
         self.blocks = [int(b) for b in blocks]
         self.interfaces = [int(i) for i in interfaces]
         self.lam = lam
+
+
+class NoCollapseError(StaticSolverError):
+    """The analysis ended without a collapse: its largest lambda is not a collapse multiplier.
+
+    Raised by :func:`solve_collapse` with ``on_failure="raise"`` (the default).
+
+    Attributes
+    ----------
+    reason : str
+        Why: ``"no mechanism: ..."`` (the live load does no work on any motion the joints
+        allow), ``"still rising at x % of the initial slope after max_steps = n"``, or
+        ``"stalled: ..."`` (no converged step even at the smallest increment).
+    result : StaticResult
+        The partial path, with ``collapsed = False`` and its ``termination``.
+    """
+
+    def __init__(self, reason: str, result: StaticResult):
+        super().__init__(
+            f"no collapse ({result.termination}): {reason}; lambda reached "
+            f"{result.lambda_max:.6g} is not a collapse multiplier",
+            lam=result.lambda_max,
+        )
+        self.reason = reason
+        self.result = result
 
 
 @dataclass(frozen=True)
@@ -185,15 +217,21 @@ class StaticSettings:
         control increments.
     softening_drop : float
         End when lambda falls below ``(1 - softening_drop) lambda_max``.
+    plateau_rise : float
+        A plateau also needs lambda to have risen by less than this fraction of itself since
+        half the present control displacement (:mod:`dem.collapse_criteria`): slow frictional
+        hardening is not taken for the collapse.
     dead_steps : int
         Increments of the dead load.
     monitor : tuple of (int, int) or None
         ``(block, dof)`` whose displacement the pushover also records; None: the free block
         with the largest live-direction translation in the mechanism.
-    on_failure : {"raise", "stop"}
-        On a live step that does not converge even at the smallest increment (and is not on
-        the plateau): raise :class:`StaticSolverError`, or stop and return the path so far
-        with ``termination = "no_convergence"`` (the message is in ``StaticResult.failure``).
+    on_failure : {"raise", "return"}
+        When the analysis ends without a collapse (no mechanism exists, ``max_steps`` reached
+        while lambda still rises, or a step that converges at no increment): raise
+        :class:`NoCollapseError` (its ``result`` holds the partial path), or return the
+        partial path with ``collapsed = False``, its ``termination`` and the reason in
+        ``failure``.
     """
 
     interface_model: str = "resultant"
@@ -219,13 +257,19 @@ class StaticSettings:
     plateau_slope: float = 2e-3
     plateau_steps: int = 4
     softening_drop: float = 0.2
+    plateau_rise: float = 1e-3
     dead_steps: int = 1
     monitor: tuple[int, int] | None = None
     on_failure: str = "raise"
 
     def __post_init__(self):
-        if self.on_failure not in ("raise", "stop"):
-            raise ValueError(f"on_failure must be 'raise' or 'stop', got {self.on_failure!r}")
+        if self.on_failure == "stop":
+            raise ValueError(
+                "on_failure='stop' is no longer accepted: use 'return' to get the partial "
+                "path back flagged collapsed=False, or 'raise' (default) for a NoCollapseError"
+            )
+        if self.on_failure not in ON_FAILURE:
+            raise ValueError(f"on_failure must be one of {ON_FAILURE}, got {self.on_failure!r}")
         if self.interface_model not in INTERFACE_MODELS:
             raise ValueError(
                 f"interface_model must be one of {INTERFACE_MODELS}, got {self.interface_model!r}"
@@ -260,7 +304,13 @@ class StaticSettings:
             low = 2 if name == "fibre_points" else 1
             if isinstance(v, bool) or int(v) != v or v < low:
                 raise ValueError(f"{name} must be an integer >= {low}, got {v!r}")
-        for name in ("tangent_floor", "min_step_ratio", "plateau_slope", "softening_drop"):
+        for name in (
+            "tangent_floor",
+            "min_step_ratio",
+            "plateau_slope",
+            "softening_drop",
+            "plateau_rise",
+        ):
             v = getattr(self, name)
             if name == "tangent_floor" and v is None:
                 continue
@@ -275,8 +325,12 @@ class StaticResult:
     Attributes
     ----------
     lambda_max : float
-        Largest live-load multiplier reached (the collapse multiplier) [-, or Pa for a
-        pressure pattern].
+        Largest live-load multiplier reached [-, or Pa for a pressure pattern]: the collapse
+        multiplier if ``collapsed``, else only the end of a partial path (``math.inf`` when
+        no mechanism exists).
+    collapsed : bool
+        True only if the path ended in a collapse (``termination`` in
+        :data:`COLLAPSE_TERMINATIONS`).
     pushover_lambda : (n_points,) float
         Multiplier along the path, starting at 0 after the dead load.
     pushover_control : (n_points,) float
@@ -313,17 +367,20 @@ class StaticResult:
         Steps constrained along the direction of the previous increment, after the fixed
         control ``c`` failed at its smallest step (see :func:`solve_collapse`).
     failure : str
-        With ``on_failure="stop"``: the non-convergence message that ended the analysis.
+        Why the run did not collapse ("" if it did).
     termination : str
-        ``"plateau"``, ``"softening"``, ``"snap_back"`` (lambda and ``c`` both falling for
-        ``plateau_steps`` steps, lambda below the peak by more than a plateau may rise),
-        ``"max_steps"`` or ``"no_convergence"`` (only with ``on_failure="stop"``).
+        A collapse: ``"plateau"``, ``"softening"``, ``"snap_back"`` (lambda and ``c`` both
+        falling for ``plateau_steps`` steps, lambda below the peak by more than a plateau may
+        rise). No collapse: ``"max_steps"`` (lambda still rising), ``"stalled"`` (no step
+        converged even at the smallest increment) or ``"no_mechanism"`` (the live load does
+        no work on any motion the joints allow: lambda is unbounded).
     wall_s : float
         Wall time [s].
     settings : dict
     """
 
     lambda_max: float
+    collapsed: bool
     pushover_lambda: np.ndarray
     pushover_control: np.ndarray
     pushover_monitor: np.ndarray
@@ -946,6 +1003,153 @@ def _newton_dead(model: _Model, settings: StaticSettings):
     return u, f, n_iter
 
 
+def _no_mechanism(model: _Model) -> str:
+    """Why no collapse mechanism exists, or "" if one may.
+
+    A mechanism is a motion ``U`` of the free dofs that opens no interface: the normal gap
+    ``dn + phi1 y2 - phi2 y1`` is >= 0 at every corner of every interface polygon (sliding is
+    free: zero-dilatancy friction and tensile strength only dissipate). If the live load does
+    no positive work on any such motion, no multiplier can make the assembly collapse
+    (kinematic theorem with the least restrictive joints): a linear program, solved before
+    the live load.
+    """
+    rows = []
+    for k in range(model.m):
+        poly = model.itf.local_polygon(k)
+        g = np.zeros((len(poly), 6))
+        g[:, 0] = 1.0
+        g[:, 3] = poly[:, 1]
+        g[:, 4] = -poly[:, 0]
+        rows.append((k, g @ model.B[k]))
+    n = model.n_free
+    r_idx, c_idx, vals = [], [], []
+    n_rows = 0
+    for k, gb in rows:
+        dofs = np.concatenate([model.dof_index[model.a[k]], model.dof_index[model.b[k]]])
+        keep = dofs >= 0
+        for row in gb:
+            nz = keep & (row != 0.0)
+            r_idx.append(np.full(int(nz.sum()), n_rows))
+            c_idx.append(dofs[nz])
+            vals.append(-row[nz])
+            n_rows += 1
+    G = sp.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(r_idx), np.concatenate(c_idx))), shape=(n_rows, n)
+    )
+    # translations bounded by 1 m, rotations by 1 / L rad (L the assembly's size)
+    size = float(np.ptp(model.scene.assembly.centroid, axis=0).max()) or 1.0
+    is_rot = np.broadcast_to(np.arange(6) >= 3, (model.n_blocks, 6))[model.free_mask]
+    bound = np.where(is_rot, 1.0 / size, 1.0)
+    res = linprog(
+        -model.F_live,
+        A_ub=G,
+        b_ub=np.zeros(n_rows),
+        bounds=np.column_stack([-bound, bound]),
+        method="highs",
+    )
+    if res.status != 0:
+        logger.debug("mechanism check inconclusive (%s): the path decides", res.message)
+        return ""
+    work = -float(res.fun)
+    scale = float(np.abs(model.F_live) @ bound)
+    if work > 1e-7 * scale:
+        return ""
+    return (
+        "no mechanism: the live load does no positive work on any motion that opens no joint "
+        f"(largest work {work:.3e} of at most {scale:.3e}), so no multiplier makes the assembly "
+        "collapse (it points into the supports or is carried by them)"
+    )
+
+
+def _still_rising(criteria: CollapseCriteria, settings: StaticSettings) -> str:
+    """The reason of a ``max_steps`` end: how fast lambda still rises."""
+    window = settings.plateau_steps * criteria.dc0
+    slope = criteria.secant_slope(window)
+    if slope is None:
+        slope = criteria.secant_slope(0.0)
+    ratio = 0.0 if slope is None or not criteria.slope0 else slope / criteria.slope0
+    reason = (
+        f"still rising at {100 * ratio:.2g} % of the initial slope after max_steps = "
+        f"{settings.max_steps}"
+    )
+    logger.warning(reason)
+    return reason
+
+
+@dataclass
+class _Path:
+    """The path of a run, for :func:`_finish`."""
+
+    lams: np.ndarray
+    ctrl: np.ndarray
+    history: np.ndarray
+    last_du: np.ndarray
+    u: np.ndarray
+    peak: dict
+    counts: tuple
+
+
+def _finish(model, settings, path: _Path, termination: str, failure: str, start: float):
+    """The :class:`StaticResult` of a run; raise :class:`NoCollapseError` per ``on_failure``."""
+    scene = model.scene
+    mech = model.full(path.last_du)
+    scale = np.abs(mech[:, :3]).max()
+    mech = mech / scale if scale > 0 else mech
+    if settings.monitor is not None:
+        mon = (int(settings.monitor[0]), int(settings.monitor[1]))
+        if not (0 <= mon[0] < model.n_blocks and 0 <= mon[1] < 6):
+            raise ValueError(f"monitor {settings.monitor} is not a (block, dof) of the scene")
+    else:
+        live_dir = scene.loads.live_wrench[:, :3].sum(axis=0)
+        dof = int(np.argmax(np.abs(live_dir)))
+        mon = (int(np.argmax(np.abs(mech[:, dof]))), dof)
+    idx = model.dof_index[mon]
+    monitor_path = path.history[:, idx] if idx >= 0 else np.zeros(len(path.history))
+    f_end, _, state_end, _, _ = model.evaluate(model.full(path.u))
+    wall = time.perf_counter() - start
+    n_steps, n_iter, n_loose, n_cascades, n_arc = path.counts
+    peak = path.peak
+    collapsed = termination in COLLAPSE_TERMINATIONS
+    logger.info(
+        "%s: lambda_max = %.6g after %d steps, %d iterations, %.2f s (%s)",
+        "collapse" if collapsed else "no collapse",
+        peak["lam"],
+        n_steps,
+        n_iter,
+        wall,
+        termination,
+    )
+    result = StaticResult(
+        lambda_max=float(peak["lam"]),
+        collapsed=collapsed,
+        pushover_lambda=path.lams,
+        pushover_control=path.ctrl,
+        pushover_monitor=np.asarray(monitor_path, dtype=float),
+        monitor=mon,
+        interface_state=model.state.copy(),
+        interface_state_at_peak=peak["state"],
+        interface_forces=peak["f"],
+        interface_forces_end=f_end,
+        mechanism=mech,
+        displacements=model.full(path.u),
+        displacements_at_peak=model.full(peak["u"]),
+        block_a=model.a.copy(),
+        block_b=model.b.copy(),
+        n_steps=n_steps,
+        n_iterations=n_iter,
+        n_loose_steps=n_loose,
+        n_cascades=n_cascades,
+        n_arc_steps=n_arc,
+        failure="" if collapsed else failure,
+        termination=termination,
+        wall_s=wall,
+        settings=asdict(settings),
+    )
+    if not collapsed and settings.on_failure == "raise":
+        raise NoCollapseError(failure, result)
+    return result
+
+
 def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> StaticResult:
     r"""Dead load, then the live load to collapse (seed 001, Sec. 2.3).
 
@@ -966,8 +1170,11 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         Bad inputs (no interfaces, no free dof, no friction coefficient, zero live load).
     StaticSolverError
         Unsupported blocks (singular stiffness before any load), no equilibrium under the dead
-        load, no convergence before a collapse plateau, NaN; the message names the blocks or
-        interfaces involved.
+        load, NaN; the message names the blocks or interfaces involved.
+    NoCollapseError
+        With ``on_failure="raise"`` (default): the run ended without a collapse (no mechanism
+        exists, ``max_steps`` reached while lambda still rises, or stalled); ``reason`` says
+        which and ``result`` holds the partial path.
 
     Notes
     -----
@@ -1008,6 +1215,19 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     lam = 0.0
     us = [u.copy()]
     # first increment: the elastic control displacement of d lambda = load_step * lambda_scale
+    peak = dict(lam=0.0, u=u.copy(), f=f_dead.copy(), state=model.state.copy())
+    no_mechanism = _no_mechanism(model)
+    if no_mechanism:
+        path = _Path(
+            lams=np.zeros(1),
+            ctrl=np.array([float(model.w @ u)]),
+            history=u[None, :].copy(),
+            last_du=np.zeros_like(u),
+            u=u,
+            peak=dict(peak, lam=math.inf),
+            counts=(0, n_iter, 0, 0, 0),
+        )
+        return _finish(model, settings, path, "no_mechanism", no_mechanism, start)
     _, D, _, _, _ = model.evaluate(model.full(u), 1.0)  # elastic stiffness
     lu = _factor(model.stiffness(D))
     if isinstance(lu, Exception):
@@ -1022,13 +1242,13 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         )
     dc = dc0
     dc_max = settings.max_step_factor * dc0
-    peak = dict(lam=0.0, u=u.copy(), f=f_dead.copy(), state=model.state.copy())
     criteria = CollapseCriteria(
         float(model.w @ u),
         dc0,
         settings.plateau_slope,
         settings.plateau_steps,
         settings.softening_drop,
+        settings.plateau_rise,
     )
     termination = "max_steps"
     last_du = np.zeros_like(u)
@@ -1107,12 +1327,9 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
                     f"{dc:.3e} m (largest residual at block {blk} {dof}; {len(changing)} "
                     f"interfaces changing state, e.g. {changing[:5].tolist()})"
                 )
-                if settings.on_failure == "stop" and n_steps > 0:
-                    logger.warning("%s: stopped, lambda_max is the last converged peak", message)
-                    termination = "no_convergence"
-                    failure = message
-                    break
-                raise StaticSolverError(message, blocks=[blk], interfaces=changing[:10], lam=lam)
+                termination = "stalled"
+                failure = f"stalled: {message}"
+                break
             continue
         u_new, lam_new, f, state, its = out.u, out.lam, out.f, out.state, out.iterations
         floor = out.floor
@@ -1143,55 +1360,15 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         growth = 1.0 if out.loose else math.sqrt(settings.target_iterations / max(its, 1))
         dc = min(dc * min(max(growth, 0.5), 2.0), dc_max)
     else:
-        logger.warning("max_steps = %d reached before a collapse plateau", settings.max_steps)
+        failure = _still_rising(criteria, settings)
 
-    # the monitored dof
-    mech = model.full(last_du)
-    scale = np.abs(mech[:, :3]).max()
-    mech = mech / scale if scale > 0 else mech
-    if settings.monitor is not None:
-        mon = (int(settings.monitor[0]), int(settings.monitor[1]))
-        if not (0 <= mon[0] < model.n_blocks and 0 <= mon[1] < 6):
-            raise ValueError(f"monitor {settings.monitor} is not a (block, dof) of the scene")
-    else:
-        live_dir = scene.loads.live_wrench[:, :3].sum(axis=0)
-        dof = int(np.argmax(np.abs(live_dir)))
-        mon = (int(np.argmax(np.abs(mech[:, dof]))), dof)
-    idx = model.dof_index[mon]
-    history = np.array(us)
-    monitor_path = history[:, idx] if idx >= 0 else np.zeros(len(us))
-    f_end, _, state_end, _, _ = model.evaluate(model.full(u))
-    wall = time.perf_counter() - start
-    logger.info(
-        "collapse: lambda_max = %.6g after %d steps, %d iterations, %.2f s (%s)",
-        peak["lam"],
-        n_steps,
-        n_iter,
-        wall,
-        termination,
+    path = _Path(
+        lams=np.array(criteria.lams),
+        ctrl=np.array(criteria.ctrl),
+        history=np.array(us),
+        last_du=last_du,
+        u=u,
+        peak=peak,
+        counts=(n_steps, n_iter, n_loose, n_cascades, n_arc),
     )
-    return StaticResult(
-        lambda_max=float(peak["lam"]),
-        pushover_lambda=np.array(criteria.lams),
-        pushover_control=np.array(criteria.ctrl),
-        pushover_monitor=np.asarray(monitor_path, dtype=float),
-        monitor=mon,
-        interface_state=model.state.copy(),
-        interface_state_at_peak=peak["state"],
-        interface_forces=peak["f"],
-        interface_forces_end=f_end,
-        mechanism=mech,
-        displacements=model.full(u),
-        displacements_at_peak=model.full(peak["u"]),
-        block_a=model.a.copy(),
-        block_b=model.b.copy(),
-        n_steps=n_steps,
-        n_iterations=n_iter,
-        n_loose_steps=n_loose,
-        n_cascades=n_cascades,
-        n_arc_steps=n_arc,
-        failure=failure,
-        termination=termination,
-        wall_s=wall,
-        settings=asdict(settings),
-    )
+    return _finish(model, settings, path, termination, failure, start)

@@ -255,7 +255,8 @@ def yield_residual(
 ) -> float:
     r"""Largest violation of the interface strength in SI, divided by ``W`` [-].
 
-    Vertex model: :math:`p_j \ge 0`, :math:`\|s_j\| \le \mu p_j`. Resultant model:
+    Vertex model: :math:`p_j \ge 0`, :math:`\|s_j\| \le \mu p_j`. Where ``mu`` is inf (no
+    sliding) only the sign of the normal force is checked. Resultant model:
     :math:`c = f_t - N \ge 0`, :math:`\|V\| \le \mu c`, :math:`|M_3| \le c_T\mu c`, the
     interaction :math:`(|M_3|/c_T\mu c)^\alpha + \|V\|^2/(\mu c)^2 \le 1` (as a force:
     :math:`\mu c` times the excess of the left side's root), and the centre of pressure in the
@@ -263,14 +264,18 @@ def yield_residual(
     """
     if model == "vertex":
         p, s = vertex_forces[:, 0], vertex_forces[:, 1:]
-        viol = np.maximum(-p, np.linalg.norm(s, axis=1) - vertex_mu * p)
+        fin = np.isfinite(vertex_mu)
+        slip = np.where(fin, np.linalg.norm(s, axis=1) - np.where(fin, vertex_mu, 0.0) * p, 0.0)
+        viol = np.maximum(-p, slip)
         return float(np.max(viol, initial=0.0)) / weight
     n, v, m = forces[:, 0], forces[:, 1:3], forces[:, 3:]
     c = tensile - n
     vn = np.linalg.norm(v, axis=1)
-    viol = [-c, vn - mu * c, np.abs(m[:, 2]) - c_t * mu * c]
+    fin = np.isfinite(mu)  # mu = inf: no sliding, nothing to check but c >= 0
+    mu = np.where(fin, mu, 0.0)
+    viol = [-c, np.where(fin, vn - mu * c, 0.0), np.where(fin, np.abs(m[:, 2]) - c_t * mu * c, 0.0)]
     if alpha is not None:
-        cap = mu * c
+        cap = np.where(fin, mu * c, 0.0)
         with np.errstate(divide="ignore", invalid="ignore"):
             lhs = (np.abs(m[:, 2]) / (c_t * cap)) ** alpha + (vn / cap) ** 2
         lhs = np.where(cap > 0, lhs, 0.0)

@@ -338,6 +338,7 @@ def interface_friction(
     """Friction coefficient of each interface [-].
 
     ``mu`` (a number) overrides the scene; otherwise the smaller of the two blocks' values.
+    ``inf`` means no sliding (the friction cone is dropped, see :mod:`limit.problems`).
 
     Raises
     ------
@@ -346,8 +347,8 @@ def interface_friction(
     """
     m = interfaces.n_interfaces
     if mu is not None:
-        if not math.isfinite(mu) or mu < 0:
-            raise ValueError(f"friction coefficient mu must be finite and >= 0, got {mu}")
+        if math.isnan(mu) or mu < 0:
+            raise ValueError(f"friction coefficient mu must be >= 0 (inf: no sliding), got {mu}")
         return np.full(m, float(mu))
     if block_mu is None:
         raise ValueError("no friction coefficient: the scene has none and settings.mu is None")

@@ -84,6 +84,42 @@ _TORSION = ("interaction", "independent")
 _FRICTION = ("coulomb", "fixed_capacity")
 
 
+def _choice(name: str, value, options: tuple) -> None:
+    if not isinstance(value, str) or value not in options:
+        raise ValueError(f"{name} must be one of {options}, got {value!r}")
+
+
+def _real(
+    name: str,
+    value,
+    low: float,
+    high: float = math.inf,
+    strict: bool = False,
+    allow_inf: bool = False,
+    note: str = "",
+) -> None:
+    """A real number (not a bool) with ``low <(=) value <(=) high``, finite unless
+    ``allow_inf`` (then ``+inf`` only)."""
+    ok = isinstance(value, int | float | np.integer | np.floating) and not isinstance(
+        value, bool | np.bool_
+    )
+    if ok:
+        v = float(value)
+        ok = not math.isnan(v) and (math.isfinite(v) or allow_inf and v > 0)
+        ok = ok and (v > low if strict else v >= low) and (v < high if strict else v <= high)
+    if not ok:
+        lo = f"> {low:g}" if strict else f">= {low:g}"
+        hi = "" if math.isinf(high) else f" and {'<' if strict else '<='} {high:g}"
+        fin = "" if allow_inf else " and finite"
+        what = " ".join(x for x in (f"a number {lo}{hi}{fin}", note) if x)
+        raise ValueError(f"{name} must be {what}, got {value!r}")
+
+
+def _integer(name: str, value, low: int, note: str = "") -> None:
+    if not isinstance(value, int | np.integer) or isinstance(value, bool | np.bool_) or value < low:
+        raise ValueError(f"{name} must be an integer >= {low} ({note}), got {value!r}")
+
+
 @dataclass(frozen=True)
 class LimitSettings:
     """Settings of the static limit-analysis programme.
@@ -93,8 +129,8 @@ class LimitSettings:
     interface_model : {"vertex", "resultant"}
         Interface parametrisation (module notes). Default ``"vertex"`` (exact rigid joint).
     mu : float, optional
-        Friction coefficient of every interface [-]; default the scene's (smaller of the two
-        blocks).
+        Friction coefficient of every interface [-], ``inf`` for no sliding; default the
+        scene's (smaller of the two blocks).
     torsion : {"interaction", "independent"}
         Resultant model only: the torsion-shear interaction cone (default) or the Coulomb
         circle and the pure-torsion bound without interaction.
@@ -135,25 +171,33 @@ class LimitSettings:
     torsion_bending: bool = False
 
     def __post_init__(self) -> None:
-        if self.interface_model not in MODELS:
-            raise ValueError(
-                f"interface_model must be one of {MODELS}, got {self.interface_model!r}"
+        _choice("interface_model", self.interface_model, MODELS)
+        _choice("torsion", self.torsion, _TORSION)
+        if self.mu is not None:
+            _real("mu", self.mu, low=0.0, allow_inf=True, note="(inf: no sliding)")
+        _real("torsion_alpha", self.torsion_alpha, low=1.0, note="(convexity)")
+        if self.friction_polygon is not None:
+            _integer("friction_polygon", self.friction_polygon, low=3, note="sides")
+        _real("tensile_strength", self.tensile_strength, low=0.0, note="[Pa]")
+        if self.compressive_strength is not None:
+            _real(
+                "compressive_strength",
+                self.compressive_strength,
+                low=0.0,
+                strict=True,
+                note="[Pa] (None for unlimited)",
             )
-        if self.torsion not in _TORSION:
-            raise ValueError(f"torsion must be one of {_TORSION}, got {self.torsion!r}")
-        if not (self.torsion_alpha >= 1.0 and math.isfinite(self.torsion_alpha)):
-            raise ValueError(f"torsion_alpha must be >= 1 (convexity), got {self.torsion_alpha}")
-        if self.friction_polygon is not None and self.friction_polygon < 3:
-            raise ValueError(f"friction_polygon needs >= 3 sides, got {self.friction_polygon}")
-        if self.tensile_strength < 0 or not math.isfinite(self.tensile_strength):
-            raise ValueError(f"tensile_strength [Pa] must be >= 0, got {self.tensile_strength}")
-        if self.compressive_strength is not None and not self.compressive_strength > 0:
+        _real("tol", self.tol, low=0.0, high=1e-3, strict=True)
+        _integer("max_iter", self.max_iter, low=1, note="Clarabel iterations")
+        _real("cert_tol", self.cert_tol, low=0.0, high=1e-1, strict=True)
+        if not isinstance(self.clarabel, dict) or not all(
+            isinstance(k, str) for k in self.clarabel
+        ):
             raise ValueError(
-                "compressive_strength [Pa] must be positive or None, "
-                f"got {self.compressive_strength}"
+                f"clarabel must be a dict of Clarabel settings by name, got {self.clarabel!r}"
             )
-        if not 0 < self.tol < 1e-3:
-            raise ValueError(f"tol must lie in (0, 1e-3), got {self.tol}")
+        if not isinstance(self.torsion_bending, bool | np.bool_):
+            raise ValueError(f"torsion_bending must be True or False, got {self.torsion_bending!r}")
 
     def with_(self, **kw) -> LimitSettings:
         """A copy with some fields changed."""
@@ -258,6 +302,17 @@ def _scales(scene: Scene, free: np.ndarray, interfaces) -> tuple[float, float, n
     return weight, length, rs.ravel()[free]
 
 
+def _subset(finite: np.ndarray):
+    """Selector of the friction cones with finite mu: the identity when all are finite (no
+    index atom in the programme), an index otherwise, None when none is."""
+    if finite.all():
+        return lambda e: e
+    if not finite.any():
+        return None
+    idx = np.flatnonzero(finite)
+    return lambda e: e[idx]
+
+
 def _polygon_directions(k: int) -> tuple[np.ndarray, float]:
     """Facet normals and apothem (circle radius 1) of the inscribed regular ``k``-gon whose
     corners lie at the angles ``2 pi j / k`` from ``t1``: a ``k``-gon lies inside the
@@ -334,10 +389,12 @@ def build_static_problem(
                 [np.arange(0, 3 * nv, 3), np.arange(1, 3 * nv, 3), np.arange(2, 3 * nv, 3)]
             ),
         ]
-        mu_par = cp.Parameter(nv, nonneg=True, name="mu", value=mu_k[vi])
+        finite = np.isfinite(mu_k[vi])
+        sel = _subset(finite)
+        mu_par = cp.Parameter(nv, nonneg=True, name="mu", value=np.where(finite, mu_k[vi], 0.0))
         # mu p >= |s| implies p >= 0 where mu > 0: a sign row is kept only where it is not
-        # implied (mu = 0, or fixed capacities, which may vanish). ~20 % fewer cone rows.
-        signed = np.ones(nv, bool) if friction != "coulomb" else mu_k[vi] <= 0
+        # implied (mu = 0 or inf, or fixed capacities, which may vanish). ~20 % fewer cone rows.
+        signed = np.ones(nv, bool) if friction != "coulomb" else (mu_k[vi] <= 0) | ~finite
         extra["implied_sign"] = ~signed
         cons.append(eq)
         if signed.any():
@@ -348,12 +405,14 @@ def build_static_problem(
             cap_par = cp.Parameter(nv, nonneg=True, name="capacity", value=np.zeros(nv))
             capacity["shear"] = cap_par
             cap = cap_par
-        if settings.friction_polygon is None:
-            cons.append(cp.SOC(cap, cp.vstack([s1, s2]), axis=0))
+        if sel is None:
+            pass  # mu = inf everywhere: no friction cone
+        elif settings.friction_polygon is None:
+            cons.append(cp.SOC(sel(cap), cp.vstack([sel(s1), sel(s2)]), axis=0))
         else:
             dirs, cosk = _polygon_directions(settings.friction_polygon)
             for d in dirs:
-                cons.append(d[0] * s1 + d[1] * s2 <= cosk * cap)
+                cons.append(sel(d[0] * s1 + d[1] * s2) <= cosk * sel(cap))
         if settings.compressive_strength is not None:
             # resultants (scaled by W and W L) of the corner forces
             bn = b[0::6][:, 0::3]
@@ -374,14 +433,13 @@ def build_static_problem(
         n_, v1, v2, m1, m2, m3 = fv
         eq = sum(a_x[:, j * m : (j + 1) * m] @ fv[j] for j in range(6)) + d_dead + lam * d_live == 0
         c_hat = -n_ + f_t / weight
-        mu_par = cp.Parameter(m, nonneg=True, name="mu", value=mu_k)
+        finite = np.isfinite(mu_k)
+        mu_par = cp.Parameter(m, nonneg=True, name="mu", value=np.where(finite, mu_k, 0.0))
         g, h, owner = rocking_constraints(interfaces)
         g1 = g[:, 3::6]
         g2 = g[:, 4::6]
         own = sp.csr_matrix((h / length, (np.arange(len(h)), owner)), shape=(len(h), m))
         cons += [eq, c_hat >= 0, g1 @ m1 + g2 @ m2 <= own @ c_hat]
-        ct_hat = c_t / length
-        shear = cp.vstack([v1, v2])
         if settings.friction_polygon is not None:
             r = cp.Variable(m, name="shear_gauge")
             dirs, cosk = _polygon_directions(settings.friction_polygon)
@@ -391,15 +449,24 @@ def build_static_problem(
             f_map = sp.hstack([f_map, sp.csr_matrix((6 * m, m))]).tocsr()
         else:
             r = None
+        # friction acts only where mu is finite (mu = inf: no sliding, no torsion slip)
+        sel = _subset(finite) or (lambda e: e[np.zeros(0, dtype=np.int64)])
+        n_f = int(finite.sum())
+        ct_hat = (c_t / length)[finite]
+        c_f, mu_f, v1, v2, m3 = sel(c_hat), sel(mu_par), sel(v1), sel(v2), sel(m3)
+        r = None if r is None else sel(r)
+        shear = cp.vstack([v1, v2])
         if friction == "coulomb":
-            cap_s = cp.multiply(mu_par, c_hat)
-            cap_t = cp.multiply(cp.multiply(ct_hat, mu_par), c_hat)
+            cap_s = cp.multiply(mu_f, c_f)
+            cap_t = cp.multiply(cp.multiply(ct_hat, mu_f), c_f)
         else:
             cap_s_par = cp.Parameter(m, nonneg=True, name="capacity_shear", value=np.zeros(m))
             cap_t_par = cp.Parameter(m, nonneg=True, name="capacity_torsion", value=np.zeros(m))
             capacity["shear"], capacity["torsion"] = cap_s_par, cap_t_par
-            cap_s, cap_t = cap_s_par, cap_t_par
-        if settings.torsion == "independent":
+            cap_s, cap_t = sel(cap_s_par), sel(cap_t_par)
+        if n_f == 0:
+            pass
+        elif settings.torsion == "independent":
             if r is None:
                 cons.append(cp.SOC(cap_s, shear, axis=0))
             else:
@@ -408,18 +475,18 @@ def build_static_problem(
         else:
             alpha = settings.torsion_alpha
             # explicit (not nonneg=True) so that their duals enter the certificate
-            tau1 = cp.Variable(m, name="tau_torsion")
-            tau2 = cp.Variable(m, name="tau_shear")
+            tau1 = cp.Variable(n_f, name="tau_torsion")
+            tau2 = cp.Variable(n_f, name="tau_shear")
             cons += [tau1 >= 0, tau2 >= 0]
             x_vars = [*x_vars, tau1, tau2]
-            f_map = sp.hstack([f_map, sp.csr_matrix((6 * m, 2 * m))]).tocsr()
+            f_map = sp.hstack([f_map, sp.csr_matrix((6 * m, 2 * n_f))]).tocsr()
             rr = cp.norm(shear, 2, axis=0) if r is None else r
             if friction == "coulomb":
                 # |M3| <= (cT mu tau1)^(1/alpha) (cT mu c)^(1 - 1/alpha); |V|^2 <= mu^2 tau2 c
-                k_t = cp.multiply(ct_hat, mu_par)
+                k_t = cp.multiply(ct_hat, mu_f)
                 cons.append(cp.PowCone3D(cp.multiply(k_t, tau1), cap_t, m3, 1.0 / alpha))
-                u, w = cp.multiply(mu_par, tau2), cap_s
-                cons.append(tau1 + tau2 <= c_hat)
+                u, w = cp.multiply(mu_f, tau2), cap_s
+                cons.append(tau1 + tau2 <= c_f)
             else:
                 # normalised: tau1 + tau2 <= 1, |M3| <= cap_t tau1^(1/alpha), |V|^2 <= cap_s^2 tau2
                 cons.append(cp.PowCone3D(cp.multiply(cap_t, tau1), cap_t, m3, 1.0 / alpha))
@@ -432,7 +499,7 @@ def build_static_problem(
         if settings.torsion_bending:
             if friction != "coulomb":
                 raise ValueError("torsion_bending is available for the associated problem only")
-            _bending_torsion(cons, interfaces, length, c_hat, m1, m2, m3, mu_par)
+            _bending_torsion(cons, interfaces, length, c_hat, m1, m2, fv[5], mu_par, finite)
         if settings.compressive_strength is not None:
             _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1, m2)
 
@@ -475,8 +542,9 @@ def _rectangle_ct(l1: np.ndarray, l2: np.ndarray) -> np.ndarray:
     return mean_distance_polygons(corners, 4 * np.arange(len(half) + 1), np.zeros_like(half))
 
 
-def _bending_torsion(cons, interfaces, length, c_hat, m1_hat, m2_hat, m3_hat, mu_par):
-    """Append the tangent-plane torsion bound of ``torsion_bending`` (scaled units)."""
+def _bending_torsion(cons, interfaces, length, c_hat, m1_hat, m2_hat, m3_hat, mu_par, finite):
+    """Append the tangent-plane torsion bound of ``torsion_bending`` (scaled units) where
+    ``finite`` (mu < inf)."""
     sides, rot = interface_rectangles(interfaces)
     m = interfaces.n_interfaces
     lu, lv = sides[:, 0], sides[:, 1]
@@ -494,9 +562,11 @@ def _bending_torsion(cons, interfaces, length, c_hat, m1_hat, m2_hat, m3_hat, mu
         a_u >= -ceu,
         a_v >= cev,
         a_v >= -cev,
-        m3_hat <= cp.multiply(mu_par, cap),
-        -m3_hat <= cp.multiply(mu_par, cap),
     ]
+    idx = np.flatnonzero(finite)
+    if idx.size:
+        bound = cp.multiply(mu_par, cap)[idx]
+        cons += [m3_hat[idx] <= bound, -m3_hat[idx] <= bound]
 
 
 def _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1_hat, m2_hat):
@@ -593,9 +663,20 @@ def build_kinematic_problem(scene: Scene, settings: LimitSettings | None = None)
     d_live = row_scale * live * lam_scale
     v = cp.Variable(len(dead), name="velocity")
     w_p, w_1, w_2 = ab[0::3] @ v, ab[1::3] @ v, ab[2::3] @ v
-    cons = [
-        d_live @ v >= 1,
-        cp.SOC(w_p, cp.vstack([cp.multiply(mu, w_1), cp.multiply(mu, w_2)]), axis=0),
-    ]
+    cons = [d_live @ v >= 1]
+    finite = np.isfinite(mu)
+    sel = _subset(finite)
+    if sel is not None:
+        mu_f = mu[finite]
+        cons.append(
+            cp.SOC(
+                sel(w_p),
+                cp.vstack([cp.multiply(mu_f, sel(w_1)), cp.multiply(mu_f, sel(w_2))]),
+                axis=0,
+            )
+        )
+    if not finite.all():  # mu = inf: the corner cannot slip, it only opens
+        stuck = np.flatnonzero(~finite)
+        cons += [w_p[stuck] >= 0, w_1[stuck] == 0, w_2[stuck] == 0]
     problem = cp.Problem(cp.Minimize(-d_dead @ v), cons)
     return KinematicProblem(problem, v, lam_scale, row_scale, free)

@@ -372,8 +372,7 @@ def solve_tresca(
 
     jn, jt = B_n @ u, B_t @ u
     primal_residual = float(
-        max(np.max(-jn, initial=0.0), np.max(np.abs(jt) - slip, initial=0.0),
-            np.max(np.abs(S @ u)))
+        max(np.max(-jn, initial=0.0), np.max(np.abs(jt) - slip, initial=0.0), np.max(np.abs(S @ u)))
     )
     primal_objective = float(weight @ slip - load.ravel() @ u)
     eq_res, fr_res = admissibility_residuals(packing, traction, s_e, lam, f_t)
@@ -388,7 +387,13 @@ def solve_tresca(
         )
     logger.info(
         "Tresca %s/%s: %d cells, %d edges, eq %.1e, gap %.1e, %.3f s",
-        settings.solver, settings.selection, n_c, n_e, eq_res, gap, wall,
+        settings.solver,
+        settings.selection,
+        n_c,
+        n_e,
+        eq_res,
+        gap,
+        wall,
     )
     return TrescaResult(
         displacement=u.reshape(n_c, 2),
@@ -438,9 +443,7 @@ def _min_energy_forces(
     return np.asarray(lam.value), np.asarray(f_t.value), inaccurate
 
 
-def facet_tractions(
-    packing: Packing, result: TrescaResult, traction: np.ndarray
-) -> np.ndarray:
+def facet_tractions(packing: Packing, result: TrescaResult, traction: np.ndarray) -> np.ndarray:
     """Traction :math:`\\sigma n` on every facet of every cell, from the edge forces.
 
     Parameters

@@ -426,8 +426,12 @@ def packing_from_polygons(
                 else:
                     facet_edge.append(-1 - len(bnd))
                     bnd.append(
-                        (c, side_p0[side] + lo * side_t[side], side_p0[side] + hi * side_t[side],
-                         side_n[side])
+                        (
+                            c,
+                            side_p0[side] + lo * side_t[side],
+                            side_p0[side] + hi * side_t[side],
+                            side_n[side],
+                        )
                     )
             side += 1
         cell_ptr.append(len(cell_xy))
@@ -451,7 +455,9 @@ def packing_from_polygons(
     )
     logger.debug(
         "packing: %d cells, %d internal edges, %d boundary edges",
-        n_cells, packing.n_edges, packing.n_bnd,
+        n_cells,
+        packing.n_edges,
+        packing.n_bnd,
     )
     return packing
 

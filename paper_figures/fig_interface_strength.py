@@ -21,8 +21,11 @@ RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
 OUT = Path(__file__).resolve().parent / "out"
 CASE = "interface-strength"
 RATIOS = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0)
-COLUMNS = (("f1", "f1", r"shear $f_1$"), ("f2", "f2", r"shear $f_2$"),
-           ("f1=f2", "f1eqf2", r"$d_1 = d_2$ ('$f_1 = f_2$')"))
+COLUMNS = (
+    ("f1", "f1", r"shear $f_1$"),
+    ("f2", "f2", r"shear $f_2$"),
+    ("f1=f2", "f1eqf2", r"$d_1 = d_2$ ('$f_1 = f_2$')"),
+)
 
 
 def _law(f: np.ndarray, alpha: float) -> np.ndarray:
@@ -35,8 +38,9 @@ def _rows(data: dict) -> dict[str, dict]:
 
 def _panel_shear(ax_curve, ax_domain, c: dict, f_su: float) -> None:
     for tag, style in (("d1", "-"), ("d2", "--")):
-        ax_curve.plot(c[f"fig5_{tag}_disp"] * 1e3, c[f"fig5_{tag}_force"], style,
-                      label=f"sliding along {tag}")
+        ax_curve.plot(
+            c[f"fig5_{tag}_disp"] * 1e3, c[f"fig5_{tag}_force"], style, label=f"sliding along {tag}"
+        )
     ax_curve.set_xlabel("relative sliding [mm]")
     ax_curve.set_ylabel("shear force [N]")
     ax_curve.set_title("shear: incremental curves (Fig. 5)")
@@ -57,8 +61,15 @@ def _panel_fig8(ax, c, m3u: float, f_su: float) -> None:
     ax.plot(f * f_su, np.sqrt(1.0 - f**2) * m3u, "k--", lw=0.8, label="circle")
     for k in range(len(c["fig8_epp_rho"])):
         lab = "EPP paths" if k == 0 else None
-        ax.plot(c[f"fig8_epp{k}_f1"], c[f"fig8_epp{k}_m3"], "-", color="C0", lw=0.7, alpha=0.7,
-                label=lab)
+        ax.plot(
+            c[f"fig8_epp{k}_f1"],
+            c[f"fig8_epp{k}_m3"],
+            "-",
+            color="C0",
+            lw=0.7,
+            alpha=0.7,
+            label=lab,
+        )
         ax.plot(c[f"fig8_epp{k}_f1"][-1], c[f"fig8_epp{k}_m3"][-1], "o", color="C0", ms=3)
     ax.set_xlabel(r"$f_1$ [N]")
     ax.set_ylabel(r"$m_3$ [N m]")
@@ -67,8 +78,11 @@ def _panel_fig8(ax, c, m3u: float, f_su: float) -> None:
 
 
 def _panel_fig10(ax, c) -> None:
-    for tag, col, lab in (("m1", "C0", r"$m_1$ ($m_2=0$)"), ("m2", "C1", r"$m_2$ ($m_1=0$)"),
-                          ("m1m2", "C2", r"$m_1$, $m_2$ proportional")):
+    for tag, col, lab in (
+        ("m1", "C0", r"$m_1$ ($m_2=0$)"),
+        ("m2", "C1", r"$m_2$ ($m_1=0$)"),
+        ("m1m2", "C2", r"$m_1$, $m_2$ proportional"),
+    ):
         x = np.hypot(c[f"fig10_{tag}_m1"], c[f"fig10_{tag}_m2"])
         ax.step(x, c[f"fig10_{tag}_spring"], where="mid", color=col, lw=1.0, label=lab)
         ax.plot(x, c[f"fig10_{tag}_closed"], "--", color=col, lw=0.8)
@@ -76,8 +90,10 @@ def _panel_fig10(ax, c) -> None:
             ax.plot(x, c[f"fig10_{tag}_elastic"], ":", color=col, lw=1.2)
     ax.set_xlabel(r"bending moment $\sqrt{m_1^2 + m_2^2}$ [N m]")
     ax.set_ylabel(r"torsion strength $m_{3,u}$ [N m]")
-    ax.set_title("torsion vs bending (Fig. 10)\n"
-                 "dashed: closed form; dotted: elastic no-tension pressure", fontsize=9)
+    ax.set_title(
+        "torsion vs bending (Fig. 10)\ndashed: closed form; dotted: elastic no-tension pressure",
+        fontsize=9,
+    )
     ax.legend(fontsize=7)
 
 
@@ -92,8 +108,11 @@ def _panel_a1(ax, c) -> None:
 
 
 def _panel_convergence(ax, rows: dict) -> None:
-    pts = [(int(q.split()[3].split("x")[0]), r["rel_error"]) for q, r in rows.items()
-           if q.startswith("c_T spring grid")]
+    pts = [
+        (int(q.split()[3].split("x")[0]), r["rel_error"])
+        for q, r in rows.items()
+        if q.startswith("c_T spring grid")
+    ]
     n, err = np.array(pts, dtype=float).T
     ax.loglog(n, err, "o-", label="spring grid vs closed form")
     ax.loglog(n, err[0] * (n[0] / n) ** 2, "k--", lw=0.8, label=r"$O(n^{-2})$")
@@ -112,9 +131,15 @@ def _alpha_figure(c, rows: dict) -> Path:
             row = rows[f"alpha, l1/l2 = {ratio:g}, shear {label}"]
             col = cmap(k / (len(RATIOS) - 1))
             f, m = c[f"alpha_r{ratio:g}_{key}_f"], c[f"alpha_r{ratio:g}_{key}_m"]
-            ax.plot(f, m, "-", color=col, lw=1.4,
-                    label=rf"$l_1/l_2$={ratio:g}: $\alpha$={row['ours']:.2f} "
-                          f"(seed {row['reference']['value']:.2f})")
+            ax.plot(
+                f,
+                m,
+                "-",
+                color=col,
+                lw=1.4,
+                label=rf"$l_1/l_2$={ratio:g}: $\alpha$={row['ours']:.2f} "
+                f"(seed {row['reference']['value']:.2f})",
+            )
             ax.plot(f, _law(f, row["reference"]["value"]), ":", color=col, lw=1.0)
         ax.set_title(f"{title}; dotted: Eq. (A5) with Table A1")
         ax.set_xlabel(r"$f/f_{s,u}$")

@@ -26,8 +26,12 @@ SCENES = {
     "hom60": "60 cells, interior-point duals (seed 003 Figs. 10-11)",
     "hom60-min-energy": "60 cells, min-energy forces",
 }
-COMPONENTS = ((0, 0, r"$\sigma_{xx}$"), (1, 1, r"$\sigma_{yy}$"), (0, 1, r"$\sigma_{xy}$"),
-              (1, 0, r"$\sigma_{yx}$"))
+COMPONENTS = (
+    (0, 0, r"$\sigma_{xx}$"),
+    (1, 1, r"$\sigma_{yy}$"),
+    (0, 1, r"$\sigma_{xy}$"),
+    (1, 0, r"$\sigma_{yx}$"),
+)
 
 
 def _cells(fields: dict, key: str) -> list[np.ndarray]:
@@ -52,12 +56,14 @@ def _draw_component(fig, ax, fields: dict, key: str, i: int, j: int, label: str)
     lo, hi = np.percentile(values, [2, 98])  # tiny triangles near short edges saturate the scale
     if hi - lo < 1e-9 * max(abs(lo), abs(hi), 1.0):
         lo, hi = lo - 0.5, hi + 0.5
-    coll = PolyCollection(fields[f"{key}__tri_xy"], array=values, cmap="coolwarm",
-                          edgecolors="face", linewidths=0.1)
+    coll = PolyCollection(
+        fields[f"{key}__tri_xy"], array=values, cmap="coolwarm", edgecolors="face", linewidths=0.1
+    )
     coll.set_clim(lo, hi)
     ax.add_collection(coll)
-    ax.add_collection(PolyCollection(_cells(fields, key), facecolors="none", edgecolors="k",
-                                     linewidths=0.4))
+    ax.add_collection(
+        PolyCollection(_cells(fields, key), facecolors="none", edgecolors="k", linewidths=0.4)
+    )
     fig.colorbar(coll, ax=ax, shrink=0.7).ax.tick_params(labelsize=6)
     ax.set_title(label + " [Pa], triangle means", fontsize=8)
 

@@ -1,4 +1,5 @@
-"""Command line: ``python -m validation list | run CASE [--quick] | all [--quick]``."""
+"""Command line: ``python -m validation list | run CASE [--quick] | all [--quick] |
+crosscheck SCENE [--live x] [--out DIR] [--methods ...] [--quick]``."""
 
 from __future__ import annotations
 
@@ -7,10 +8,15 @@ import importlib
 import pkgutil
 import sys
 import time
+import warnings
 from collections.abc import Callable
+from pathlib import Path
 
 import validation.cases
-from validation.report import write_results
+from validation.crosscheck.cli import add_arguments as add_crosscheck_arguments
+from validation.crosscheck.cli import run as run_crosscheck
+from validation.main_job import run_all
+from validation.report import RESULTS_DIR, staged, write_results
 
 
 def discover_cases() -> dict[str, Callable]:
@@ -43,14 +49,19 @@ def _failed_import(module: str, exc: Exception) -> Callable:
 CASES = discover_cases()
 
 
-def run_case(name: str, quick: bool) -> None:
-    """Run one case and write ``validation/results/NAME.{json,md}``."""
+def run_case(name: str, quick: bool, out_dir: Path | None = None) -> list:
+    """Run one case and write ``validation/results/NAME.{json,md}`` and its side products
+    together (:func:`validation.report.staged`); warning filters the case sets end with it.
+    Returns the case's rows."""
     start = time.perf_counter()
-    out = CASES[name](quick=quick)
-    rows, notes = out if isinstance(out, tuple) else (out, "")
-    wall = time.perf_counter() - start
-    json_path, md_path = write_results(name, rows, quick=quick, wall_s=wall, notes=notes)
-    print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {json_path}, {md_path}")
+    with staged(name, out_dir) as stage, warnings.catch_warnings():
+        out = CASES[name](quick=quick)
+        rows, notes = out if isinstance(out, tuple) else (out, "")
+        wall = time.perf_counter() - start
+        write_results(name, rows, quick=quick, wall_s=wall, notes=notes, out_dir=stage)
+    final = Path(RESULTS_DIR if out_dir is None else out_dir)
+    print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {final / name}.{{json,md}}")
+    return rows
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -62,13 +73,27 @@ def main(argv: list[str] | None = None) -> int:
     run.add_argument("--quick", action="store_true", help="small, fast version")
     every = sub.add_parser("all", help="run every case")
     every.add_argument("--quick", action="store_true", help="small, fast versions")
+    every.add_argument(
+        "--verbose", action="store_true", help="print everything instead of one line per case"
+    )
+    for p in (run, every):
+        _add_cluster_args(p)
+    cross = sub.add_parser("crosscheck", help="every method on one scene -> report")
+    add_crosscheck_arguments(cross)
     args = parser.parse_args(argv)
 
     if args.command == "list":
         for name in CASES:
             print(name)
         return 0
+    if args.command == "crosscheck":
+        return run_crosscheck(args)
     names = [args.case] if args.command == "run" else list(CASES)
+    if args.workers is not None or args.scheduler:
+        return _run_on_cluster(names, args)
+    if args.command == "all" and not args.verbose:
+        summaries = run_all(names, run_case, args.quick, RESULTS_DIR / "validation.log")
+        return 1 if any(s.failed for s in summaries) else 0
     failed = []
     for name in names:
         try:
@@ -78,6 +103,40 @@ def main(argv: list[str] | None = None) -> int:
             failed.append(name)
             if args.command == "run":
                 raise
+    if failed:
+        print(f"failed cases: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _add_cluster_args(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="run the cases as dask tasks on a local cluster of N worker processes",
+    )
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        help="run the cases as dask tasks on a running cluster (tcp://HOST:PORT)",
+    )
+
+
+def _run_on_cluster(names: list[str], args) -> int:
+    """The cases as dask tasks (validation.sweep.cases); results written here as they finish."""
+    from validation.sweep.cases import run_cases_on_cluster
+
+    failed = []
+    chosen = {name: CASES[name] for name in names}
+    for name, out, exc in run_cases_on_cluster(chosen, args.quick, args.workers, args.scheduler):
+        if exc is not None:
+            print(f"{name}: FAILED: {type(exc).__name__}: {exc}", file=sys.stderr)
+            failed.append(name)
+            continue
+        rows, notes, wall = out
+        json_path, md_path = write_results(name, rows, quick=args.quick, wall_s=wall, notes=notes)
+        print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {json_path}, {md_path}")
     if failed:
         print(f"failed cases: {', '.join(failed)}", file=sys.stderr)
         return 1

@@ -17,6 +17,9 @@ from dem.geometry.polyhedron import ConvexBlock, penetration_depth, plane_basis
 
 REL_TOL = 1e-6
 """Default tolerance for coplanarity and overlap, relative to the median block size."""
+THIN_FRACTION = 1e-2
+"""The tolerance never exceeds this fraction of the thinnest block's thickness, so that a very
+thin block (a plate, a membrane) is a real block: no contact is found through it."""
 
 
 class OverlapError(ValueError):
@@ -142,7 +145,8 @@ def find_interfaces(
     rel_tol : float
         Tolerance relative to the median block size: faces closer than this to a common plane
         are coplanar, polygons of smaller area than ``(rel_tol * size)^2`` are dropped,
-        interpenetration deeper than this is an error.
+        interpenetration deeper than this is an error. The tolerance is at most
+        :data:`THIN_FRACTION` times the thickness of the thinnest block.
     check_overlaps : bool
         Test every candidate pair for interpenetration (separating axis theorem).
 
@@ -153,8 +157,13 @@ def find_interfaces(
     """
     if len(blocks) == 0:
         raise ValueError("an assembly needs at least one block")
+    if not 0 < rel_tol < 1:
+        raise ValueError(f"rel_tol must lie in (0, 1), got {rel_tol}")
     size = float(np.median([b.size for b in blocks]))
-    tol = rel_tol * size
+    # A gap thinner than the tolerance counts as contact: a gap that may hold a thin block
+    # (here or between any other pair) must not, so the thinnest block caps the tolerance.
+    thinnest = min(b.thickness for b in blocks)
+    tol = min(rel_tol * size, THIN_FRACTION * thinnest)
     lo, hi = bounding_boxes(blocks)
     pairs = candidate_pairs(lo, hi, tol)
 

@@ -57,6 +57,13 @@ class ConvexBlock:
         return float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
 
     @cached_property
+    def thickness(self) -> float:
+        """Smallest width of the block across one of its faces [m]: the largest depth of a
+        corner below each face plane, minimised over the faces (a plate's thickness)."""
+        depth = self.offsets[None, :] - self.vertices @ self.normals.T
+        return float(np.min(np.max(depth, axis=0)))
+
+    @cached_property
     def edges(self) -> np.ndarray:
         """(n_edges, 2) int vertex index pairs, each edge once."""
         pairs = np.concatenate([np.column_stack([f, np.roll(f, -1)]) for f in self.faces])

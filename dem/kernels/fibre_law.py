@@ -11,17 +11,38 @@ each spring follows the elastic-perfectly-plastic Coulomb law of
 resultants ``N = sum f_n``, ``V = sum f_t``, ``M1 = sum y2 f_n``, ``M2 = -sum y1 f_n``,
 ``M3 = sum (y1 f_t2 - y2 f_t1)``. Rocking, torsion and their interaction follow from the
 springs; no fitted exponent is needed.
+
+A spring whose tangential force lies on its Coulomb limit to within the relative
+``KINK_BAND`` counts as sliding in the tangent (not only one beyond it), as in
+:mod:`dem.kernels.interface_law`: after a return the committed spring lies on the limit up to
+rounding, and a stick tangent there made the first iterate of the next step overshoot and the
+step shrink (a dry wall with a fixed column crept in steps of 0.05 first increments, ten
+iterations each). The forces are those of the return map; only the tangent changes.
 """
 
 import numpy as np
 from numba import njit
 
-from dem.kernels.spring_grid import STATUS_OPEN, STATUS_SLIP, spring_return_map_one
+from dem.kernels.interface_law import KINK_BAND
+from dem.kernels.spring_grid import STATUS_OPEN, STATUS_SLIP, STATUS_STICK, spring_return_map_one
 
 STATE_ELASTIC = 0
 STATE_SHEAR = 1
 STATE_FLEXURE = 2
 STATE_DETACHED = 4
+
+
+@njit(cache=True)
+def on_limit(f_n, f_1, f_2, mu, cohesion_force):
+    """Whether a sticking spring's tangential force is on its Coulomb limit (``KINK_BAND``).
+
+    ``f_n`` [N] (< 0 in compression), ``f_1, f_2`` [N] the spring's forces, ``mu`` [-],
+    ``cohesion_force`` its cohesion times its area [N] (0 once broken).
+    """
+    limit = cohesion_force - mu * f_n
+    if limit <= 0.0:
+        return False
+    return np.hypot(f_1, f_2) >= limit * (1.0 - KINK_BAND)
 
 
 @njit(cache=True)
@@ -149,7 +170,9 @@ def fibre_law_one(
             dnn = floor * kn
             d11 = floor * ks
             d22 = floor * ks
-        elif st == STATUS_SLIP:
+        elif st == STATUS_SLIP or (
+            st == STATUS_STICK and on_limit(f_n, f_1, f_2, mu, 0.0 if brk else cohesion * a)
+        ):
             area_slip += a
             t1 = 0.0
             t2 = 0.0
@@ -158,7 +181,7 @@ def fibre_law_one(
                 t1 = f_1 / norm
                 t2 = f_2 / norm
             trial = ks * np.hypot(u_1 - slip[s, 0], u_2 - slip[s, 1])
-            ratio = norm / trial if trial > 0.0 else 0.0
+            ratio = min(norm / trial, 1.0) if trial > 0.0 else 0.0
             d11 = ks * (ratio * (1.0 - t1 * t1) + floor)
             d22 = ks * (ratio * (1.0 - t2 * t2) + floor)
             d12 = -ks * ratio * t1 * t2

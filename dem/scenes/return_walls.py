@@ -29,7 +29,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from dem.geometry.polyhedron import convex_block
-from dem.scene import Assembly, Loads, Scene, Supports, proportional_to_weight
+from dem.scene import Assembly, Loads, Scene, Supports, check_finite, proportional_to_weight
 from dem.scenes.running_bond_wall import (
     beam_load_wrench,
     box_corners,
@@ -87,6 +87,17 @@ def wall_with_returns(
         table). ``meta["wall"]`` labels blocks 0 (main), 1 (left return), 2 (right return),
         -1 (foundation); ``meta["course"]`` gives the course (-1 for the foundation).
     """
+    check_finite(
+        n_per_course=n_per_course,
+        n_courses=n_courses,
+        a_mm=a_mm,
+        b_mm=b_mm,
+        s_mm=s_mm,
+        unit_weight_kn_m3=unit_weight_kn_m3,
+        return_blocks=return_blocks,
+        openings_mm=openings_mm or None,
+        beam_loads_kn=beam_loads_kn or None,
+    )
     n, nc, nr = int(n_per_course), int(n_courses), int(return_blocks)
     if n != n_per_course or n < 2 or nc != n_courses or nc < 1:
         raise ValueError(

@@ -18,6 +18,7 @@ from dem.scene import (
     Loads,
     Scene,
     Supports,
+    check_finite,
     point_load,
     proportional_to_weight,
     uniform_pressure,
@@ -172,6 +173,16 @@ def running_bond_wall(
         Wall blocks first, course by course from the left, then the foundation.
         ``meta["course"]`` gives each block's course (-1 for the foundation).
     """
+    check_finite(
+        n_per_course=n_per_course,
+        n_courses=n_courses,
+        a_mm=a_mm,
+        b_mm=b_mm,
+        s_mm=s_mm,
+        unit_weight_kn_m3=unit_weight_kn_m3,
+        openings_mm=openings_mm or None,
+        beam_loads_kn=beam_loads_kn or None,
+    )
     n, nc = int(n_per_course), int(n_courses)
     if n != n_per_course or n < 1 or nc != n_courses or nc < 1:
         raise ValueError(

@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from dem.geometry.polyhedron import ConvexBlock, clip_halfspace, convex_block
-from dem.scene import Assembly, Loads, Scene, Supports
+from dem.scene import Assembly, Loads, Scene, Supports, check_finite
 from dem.units import MM
 
 DENSITY_SEED_000 = 2.5e-6 / MM**3  # alumina-silicate, 2.5e-6 kg/mm^3 [kg/m^3]
@@ -85,6 +85,9 @@ def tis_panel(
         Blocks ordered row by row, ``index = j (n + 2) + i``; ``meta`` holds the grid position
         of each block and the paper-unit parameters.
     """
+    check_finite(
+        n=n, theta_deg=theta_deg, size_mm=size_mm, thickness_mm=thickness_mm, density=density
+    )
     if int(n) != n or n < 1:
         raise ValueError(f"n (internal blocks per side) must be a positive integer, got {n}")
     if not 0.0 <= theta_deg < 90.0:

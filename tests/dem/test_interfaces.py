@@ -69,3 +69,30 @@ def test_sort_and_sweep_matches_brute_force():
     overlap = np.all((lo[:, None] <= hi[None]) & (hi[:, None] >= lo[None]), axis=2)
     brute = {(i, j) for i, j in zip(*np.nonzero(np.triu(overlap, 1)), strict=True)}
     assert fast == brute and len(brute) > 0
+
+
+def _plate_sandwich(thickness: float):
+    """A 1 m ground, a ``thickness`` plate and a 1 m block stacked along z."""
+    ground = convex_block(box_corners((-1, -1, -1), (2, 2, 0)))
+    plate = convex_block(box_corners((0, 0, 0), (1, 1, thickness)))
+    top = convex_block(box_corners((0, 0, thickness), (1, 1, 1 + thickness)))
+    return [ground, plate, top]
+
+
+@pytest.mark.parametrize("thickness", [1e-6, 1e-8])
+def test_a_thin_plate_is_a_real_block(thickness):
+    """The contact tolerance never exceeds a fraction of the thinner block: the top block
+    rests on the plate, never on the ground through it."""
+    iface = find_interfaces(_plate_sandwich(thickness))
+    pairs = list(zip(iface.block_a.tolist(), iface.block_b.tolist(), strict=True))
+    assert pairs == [(0, 1), (1, 2)]
+    np.testing.assert_allclose(iface.area, [1.0, 1.0], rtol=1e-9)
+
+
+def test_block_thickness_is_its_smallest_width():
+    plate = convex_block(box_corners((0, 0, 0), (1, 2, 1e-6)))
+    assert plate.thickness == pytest.approx(1e-6, rel=1e-9)
+    # a regular tetrahedron of edge 1: width between opposite edges 1/sqrt(2), and the
+    # height over a face sqrt(2/3) is the smallest face width
+    tet = convex_block(np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]]) / 8**0.5)
+    assert tet.thickness == pytest.approx((2 / 3) ** 0.5, rel=1e-12)

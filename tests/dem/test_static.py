@@ -113,7 +113,7 @@ def test_wall_with_fixed_column_reaches_its_mechanism_whatever_the_step():
         3, 6, 28.24, 79.78, 39.68, 26.8, 0.7, fixed_columns=("left",), live="weight"
     )
     results = [
-        solve_collapse(scene, StaticSettings(load_step=step, on_failure="stop"))
+        solve_collapse(scene, StaticSettings(load_step=step, on_failure="return"))
         for step in (0.005, 0.01, 0.02)
     ]
     lam = [r.lambda_max for r in results]
@@ -135,7 +135,7 @@ def test_path_followed_past_a_stall_of_the_fixed_control():
 
     scene = SPECIMENS["restrepo-S15"].build(return_walls="blocks")
     stalled, direct = (
-        solve_collapse(scene, StaticSettings(mu=0.7, on_failure="stop", **kw))
+        solve_collapse(scene, StaticSettings(mu=0.7, on_failure="return", **kw))
         for kw in (dict(tangent_floor=1e-6), dict(load_step=0.02))
     )
     assert stalled.n_arc_steps > 0 and direct.n_arc_steps == 0

@@ -61,3 +61,13 @@ def pressed_block(width=0.4, depth=0.3, height=0.2, density=2000.0):
     blk = box((-width / 2, -depth / 2, 0.0), (width / 2, depth / 2, height))
     scene = Scene.from_convex_blocks([GROUND, blk], density, fixed=[0], mu=0.8)
     return scene.with_loads(live=proportional_to_weight(scene.assembly, (0.0, 0.0, -1.0)))
+
+
+def tilted_block(width: float, height: float, theta: float, mu: float, depth=0.2, density=2000.0):
+    """A ``width x depth x height`` block on a fixed ground tilted by ``theta`` [rad] about y
+    (downhill towards -x); no live load. It stands iff ``tan(theta) <= mu`` (no sliding) and
+    ``tan(theta) <= width / height`` (its centroid above the base: no toppling)."""
+    c, s = np.cos(theta), np.sin(theta)
+    rot = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
+    blk = box((-width / 2, -depth / 2, 0.0), (width / 2, depth / 2, height))
+    return Scene.from_convex_blocks([GROUND @ rot.T, blk @ rot.T], density, fixed=[0], mu=mu)

@@ -118,29 +118,3 @@ def test_zero_mu_after_build_is_refused():
     sp_.mu.value = np.zeros(sp_.n_cones)
     with pytest.raises(ValueError, match="mu = 0"):
         solve_static(sp_)
-
-
-def test_inaccurate_fast_solve_is_repeated_with_refinement(monkeypatch):
-    """The vertex programme is first solved without iterative refinement and, if accurate,
-    returned; an inaccurate fast answer is solved again with refinement."""
-    import limit.solve as solve_mod
-
-    calls = []
-    real = solve_mod._run_clarabel
-    degrade = {"on": False}
-
-    def recording(problem, settings, label, msg_inf, msg_unb, refine=True, warn=True):
-        calls.append(refine)
-        status = real(problem, settings, label, msg_inf, msg_unb, refine, warn)
-        return "optimal_inaccurate" if degrade["on"] and not refine else status
-
-    monkeypatch.setattr(solve_mod, "_run_clarabel", recording)
-    scene = block_on_ground(0.4, 0.3, 0.8, mu=0.7)
-    res = solve_mod.limit_analysis(scene, LimitSettings())
-    assert calls == [False] and res.status == "optimal"
-    assert res.lam == pytest.approx(0.5, rel=1e-6)
-    calls.clear()
-    degrade["on"] = True
-    res = solve_mod.limit_analysis(scene, LimitSettings())
-    assert calls == [False, True] and res.status == "optimal"
-    assert res.lam == pytest.approx(0.5, rel=1e-6)

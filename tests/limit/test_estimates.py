@@ -11,7 +11,8 @@ import pytest
 
 from dem.scene import Supports
 from dem.scenes.running_bond_wall import running_bond_wall
-from limit.estimates import bounds_and_estimates, reduced_friction
+from limit.errors import InconsistentBoundsError
+from limit.estimates import bounds_and_estimates, iterative_estimate, reduced_friction
 from limit.problems import LimitSettings
 from tests.limit._scenes import block_on_ground
 
@@ -46,7 +47,7 @@ def _random_wall(seed: int):
 @pytest.mark.parametrize("model", ["vertex", "resultant"])
 def test_estimates_below_upper_bound(seed, model):
     scene = _random_wall(seed)
-    b = bounds_and_estimates(scene, LimitSettings(interface_model=model), max_iter=15)
+    b = bounds_and_estimates(scene, LimitSettings(interface_model=model), max_updates=15)
     tol = 1e-6 * max(1.0, b.upper)
     assert b.reduced_mu <= b.upper + tol
     assert b.lower is not None and b.lower <= b.reduced_mu + tol
@@ -83,3 +84,50 @@ def test_static_equals_kinematic(seed):
     np.testing.assert_allclose(lam_k, static.lam, rtol=1e-6)
     np.testing.assert_allclose(np.sum(vel * scene.loads.live_wrench), 1.0, rtol=1e-9)
     np.testing.assert_allclose(-np.sum(vel * scene.dead_wrench), lam_k, rtol=1e-6)
+
+
+def test_old_budget_name_is_refused_with_its_new_name():
+    scene = block_on_ground(1.0, 1.0, 0.2, 0.6)
+    with pytest.raises(TypeError, match="max_iter was renamed max_updates"):
+        bounds_and_estimates(scene, max_iter=10)
+    with pytest.raises(TypeError, match="max_iter was renamed max_updates"):
+        iterative_estimate(scene, max_iter=10)
+
+
+def test_default_budget_settles_a_45_block_dry_wall():
+    """Seed 001's Orduna panel (3 x 13, 45 free blocks, mu 0.7) with its side column held in
+    translation and rotation: the fixed-capacity iteration needs 31 updates here (measured),
+    more than the old fixed budget of 30; the default budget grows with the wall."""
+    from dem.scenes.seed001_walls import orduna_panel
+
+    scene = orduna_panel(3)
+    restrained = scene.supports.restrained.copy()
+    restrained[restrained[:, :3].all(axis=1), :] = True
+    scene = scene.with_supports(Supports(scene.supports.fixed, restrained))
+    assert int((~scene.supports.fixed).sum()) == 45
+    b = bounds_and_estimates(scene, LimitSettings(mu=0.7), lower=False)
+    assert b.iterative.converged and b.iterative.admissible, b.iterative.n_iter
+    assert b.lower is None and b.consistent
+    assert b.iterative.lam <= b.upper
+
+
+def test_an_estimate_above_the_upper_bound_is_never_returned_silently(monkeypatch):
+    """Feed a wrong estimate (b): a failed, inadmissible iterate above the upper bound, as
+    seen on a dry wall (issue 13). It must be refused, or flagged with strict=False."""
+    import limit.estimates as est
+
+    real = est.iterative_estimate
+
+    def wrong(*args, **kw):
+        it = real(*args, **kw)
+        it.lam, it.admissible, it.failure = 1.1 * kw["start"].lam, False, "iteration 3: ..."
+        return it
+
+    monkeypatch.setattr(est, "iterative_estimate", wrong)
+    scene = block_on_ground(1.0, 1.0, 0.2, 0.6)
+    with pytest.raises(InconsistentBoundsError, match=r"estimate \(b\) 0.66 is above") as info:
+        bounds_and_estimates(scene)
+    assert not info.value.bounds.estimates_below_upper()
+    b = bounds_and_estimates(scene, strict=False)
+    assert not b.consistent and not b.estimates_below_upper()
+    assert b.to_dict()["issues"] == b.issues != []

@@ -26,7 +26,7 @@ from limit.errors import LimitAnalysisError
 from limit.estimates import bounds_and_estimates, reduced_friction
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
-from validation.report import RESULTS_DIR, Row
+from validation.report import RESULTS_DIR, Row, output_dir
 
 logger = logging.getLogger(__name__)
 
@@ -78,7 +78,7 @@ def _bounds_rows(
     unit: float = 1.0,
     unit_label: str = "lambda [-]",
     iterate: bool = True,
-    max_iter: int = 30,
+    max_updates: int = 30,
     est_reference: float | None = None,
     extra: dict | None = None,
 ) -> tuple[list[Row], dict]:
@@ -87,7 +87,7 @@ def _bounds_rows(
     model = settings.interface_model
     t0 = time.perf_counter()
     try:
-        b = bounds_and_estimates(scene, settings, iterate=iterate, max_iter=max_iter)
+        b = bounds_and_estimates(scene, settings, iterate=iterate, max_updates=max_updates)
     except LimitAnalysisError as exc:
         wall = time.perf_counter() - t0
         text = str(exc)
@@ -139,7 +139,7 @@ def _bounds_rows(
                 est_ref,
                 source,
                 it.wall_s,
-                {**settings.to_dict(), "max_iter": max_iter, "omega": it.omega},
+                {**settings.to_dict(), "max_updates": max_updates, "omega": it.omega},
                 {
                     **extra,
                     "kind": "estimate (b), not a bound",
@@ -400,8 +400,9 @@ def _save_mechanism(key: str, scene: Scene, result) -> str:
     from limit.mechanism import write_mechanism
 
     try:
-        paths = write_mechanism(scene, result, MECHANISM_DIR / key)
-        return paths["npz"]
+        # into the run's staging directory: moved into place with the table (report.staged)
+        write_mechanism(scene, result, output_dir() / MECHANISM_DIR.name / key)
+        return str((MECHANISM_DIR / key).with_suffix(".npz"))
     except Exception as exc:  # pyvista missing or a write error: the table still stands
         logger.warning("could not write the mechanism of %s: %s", key, exc)
         return ""
@@ -416,7 +417,7 @@ def run_orduna(quick: bool = True):
     summaries = []
     variants = ("translations", "fixed", "out-of-plane")
     fcs = (None, 3.0e6) if quick else (None, 1.0e6, 3.0e6, 10.0e6)
-    max_iter = 10 if quick else 30
+    max_updates = 10 if quick else 30
     for n in (3, 6):
         spec = SPECIMENS[f"orduna-{n}x13"]
         lim, fem = spec.references["limit"], spec.references["fem"]
@@ -436,7 +437,7 @@ def run_orduna(quick: bool = True):
                         settings,
                         reference=lim,
                         source=f"{SEED} Table 1 (Orduna & Lourenco 2005b limit analysis)",
-                        max_iter=max_iter,
+                        max_updates=max_updates,
                         est_reference=lim,
                         extra={
                             "seed_limit": lim,
@@ -551,7 +552,7 @@ def _table_rows(table: str, quick: bool):
     rows: list[Row] = []
     specs = [s for s in SPECIMENS.values() if s.table == table]
     pressure = table == "Table 3"
-    max_iter = 3 if quick else 30
+    max_updates = 3 if quick else 30
     for spec in specs:
         variants = [("", spec.build())]
         if table == "Table 2" and spec.supports != "base+beams":
@@ -568,7 +569,7 @@ def _table_rows(table: str, quick: bool):
                     unit=KPA if pressure else 1.0,
                     unit_label="p [kN/m^2]" if pressure else "lambda [-]",
                     iterate=True,
-                    max_iter=max_iter,
+                    max_updates=max_updates,
                     extra={
                         "seed_dem": spec.seed_dem,
                         **spec.references,
@@ -649,7 +650,7 @@ def run_vs_dem(quick: bool = True):
             settings = _joint_settings(spec, our_model)
             t = time.perf_counter()
             try:
-                b = bounds_and_estimates(scene, settings, iterate=not quick, max_iter=30)
+                b = bounds_and_estimates(scene, settings, iterate=not quick, max_updates=30)
                 upper, est_a = b.upper, b.reduced_mu
                 est_b = None if b.iterative is None else b.iterative.lam
                 lower = b.lower
@@ -660,6 +661,7 @@ def run_vs_dem(quick: bool = True):
                 our_err = str(exc)[:120]
             t_lim = time.perf_counter() - t
             t = time.perf_counter()
+            dem_termination, lam_reached = "error", None
             try:
                 dem = solve_collapse(
                     scene,
@@ -668,9 +670,15 @@ def run_vs_dem(quick: bool = True):
                         alpha=settings.torsion_alpha,
                         mu=spec.joint.mu,
                         tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
+                        on_failure="return",
                     ),
                 )
-                lam_dem, dem_err = float(dem.lambda_max), ""
+                dem_termination, lam_reached = dem.termination, float(dem.lambda_max)
+                # a run that did not collapse has no collapse multiplier to compare
+                lam_dem = lam_reached if dem.collapsed else None
+                dem_err = dem.failure
+                if not dem.collapsed:
+                    failures.append(f"{key} {dem_model} ({dem.termination})")
             except Exception as exc:  # the DEM's own failure is reported, not hidden
                 lam_dem, dem_err = None, f"{type(exc).__name__}: {str(exc)[:120]}"
                 failures.append(f"{key} {dem_model}")
@@ -689,6 +697,8 @@ def run_vs_dem(quick: bool = True):
                     {"dem_model": dem_model, "alpha": settings.torsion_alpha, **settings.to_dict()},
                     {
                         "within_bounds": within,
+                        "dem_termination": dem_termination,
+                        "dem_lambda_reached": None if lam_reached is None else lam_reached / unit,
                         "estimate_a_mu_star": None if est_a is None else est_a / unit,
                         "estimate_b_iterative": None if est_b is None else est_b / unit,
                         "lower_frictionless": None if lower is None else lower / unit,
@@ -712,7 +722,10 @@ def run_vs_dem(quick: bool = True):
             "bound test in both pairs.",
             "",
             f"Cases: {'a quick subset' if quick else 'every masonry specimen'} ({len(keys)}).",
-            "DEM failures: " + (", ".join(failures) if failures else "none") + ".",
+            "A DEM run that did not collapse (termination `max_steps`, `stalled` or "
+            "`no_mechanism`) has no multiplier in `ours`; `dem_lambda_reached` is where its "
+            "path ended.",
+            "DEM runs without a collapse: " + (", ".join(failures) if failures else "none") + ".",
         ]
     )
     return rows, notes

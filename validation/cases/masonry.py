@@ -40,7 +40,7 @@ SEED_TABLE2_MEAN_ERROR = 0.096  # the seed's own DEM over Table 2 (mean |DEM - e
 
 def _settings(spec: SeedSpecimen, model: str, quick: bool) -> StaticSettings:
     joint = spec.joint
-    kw: dict = {"interface_model": model, "mu": joint.mu, "on_failure": "stop"}
+    kw: dict = {"interface_model": model, "mu": joint.mu, "on_failure": "return"}
     if joint.tensile_strength_mpa > 0:
         kw["tensile_strength"] = joint.tensile_strength_mpa * MPA
     if joint.kn_n_mm3 is not None:
@@ -104,7 +104,9 @@ def _row(
         error = str(exc)
         logger.warning("%s %s %s: %s", spec.key, model, variant, exc)
     wall = time.perf_counter() - start
-    ours = None if result is None else result.lambda_max * scale
+    # a run that did not collapse has no collapse multiplier: never reported as one
+    collapsed = result is not None and result.collapsed
+    ours = result.lambda_max * scale if collapsed else None
     extra = {
         "model": model,
         "supports_variant": variant,
@@ -112,7 +114,9 @@ def _row(
         "seed_rel_error": abs(spec.seed_dem - spec.reference) / spec.reference,
         **{f"ref_{k}": v for k, v in spec.references.items()},
         "n_blocks": scene.n_blocks,
-        "termination": error if result is None else result.termination,
+        "termination": "error" if result is None else result.termination,
+        "collapsed": collapsed,
+        "lambda_reached": None if result is None else result.lambda_max * scale,
         "failure": error if result is None else result.failure,
         "n_steps": None if result is None else result.n_steps,
     }

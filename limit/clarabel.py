@@ -1,0 +1,361 @@
+r"""Solve a compiled static programme with Clarabel: status map, retries, certificate.
+
+Status vocabulary (cvxpy's). ``optimal`` is read and certified (:mod:`limit.certificates`).
+``optimal_inaccurate``, a solver error or a failed certificate is retried, first with
+Clarabel's iterative refinement (when the first solve went without it), then with tolerances
+a hundred times tighter and twice the iterations. After the last attempt an
+``optimal_inaccurate`` point is either certified (returned with that status and one warning)
+or refused with one :class:`~limit.errors.NumericalFailureError` that lists every attempt.
+``infeasible`` raises :class:`~limit.errors.DeadLoadInfeasibleError` (the structure falls
+down by itself) and ``unbounded`` :class:`~limit.errors.NoMechanismError` (no collapse
+mechanism); their ``_inaccurate`` variants are retried first.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import cvxpy as cp
+import numpy as np
+
+from limit.certificates import (
+    Certificate,
+    conic_certificate,
+    equilibrium_residual,
+    yield_residual,
+)
+from limit.errors import (
+    DeadLoadInfeasibleError,
+    LimitAnalysisError,
+    NoMechanismError,
+    NumericalFailureError,
+)
+from limit.matrices import rocking_constraints
+from limit.problems import LimitSettings, StaticProblem
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "ACCEPTED",
+    "MSG_INFEASIBLE",
+    "MSG_UNBOUNDED",
+    "STATIC_OUTCOMES",
+    "Attempt",
+    "LimitResult",
+    "run_clarabel",
+    "solve_static",
+]
+
+ACCEPTED = ("optimal", "optimal_inaccurate")
+
+MSG_INFEASIBLE = (
+    "no equilibrium under the dead load alone (lambda = 0 is infeasible): the structure "
+    "falls down by itself. A block may lack support (missing foundation or restraint), hang "
+    "past its supports, or need more friction than mu provides."
+)
+MSG_UNBOUNDED = (
+    "the live load is carried for every multiplier (unbounded): no collapse mechanism exists. "
+    "The live load acts only on supported or restrained degrees of freedom, or rigid supports "
+    "with unlimited compressive strength carry it by arching (set compressive_strength)."
+)
+
+STATIC_OUTCOMES = {
+    "infeasible": (DeadLoadInfeasibleError, MSG_INFEASIBLE),
+    "unbounded": (NoMechanismError, MSG_UNBOUNDED),
+}
+"""Structural outcome of each terminal status of the static programme: (error type, message)."""
+
+TIGHTEN = 1e-2
+"""Factor on Clarabel's tolerances in the last attempt."""
+
+
+@dataclass(frozen=True)
+class Attempt:
+    """One Clarabel solve: ``refine`` its KKT solves, tolerances times ``tol_factor``,
+    iteration limit times ``iter_factor``."""
+
+    label: str
+    refine: bool = True
+    tol_factor: float = 1.0
+    iter_factor: int = 1
+
+    def options(self, settings: LimitSettings) -> dict:
+        t = max(settings.tol * self.tol_factor, 1e-14)
+        return {
+            "tol_gap_abs": t,
+            "tol_gap_rel": t,
+            "tol_feas": t,
+            "tol_ktratio": max(t, 1e-8),
+            "max_iter": settings.max_iter * self.iter_factor,
+            "iterative_refinement_enable": self.refine,
+            **settings.clarabel,
+        }
+
+
+REFINED = Attempt("refined")
+TIGHTENED = Attempt("tightened", tol_factor=TIGHTEN, iter_factor=2)
+
+
+@dataclass
+class LimitResult:
+    """A certified solution of the static programme.
+
+    Attributes
+    ----------
+    lam : float
+        Load multiplier [-] (or [Pa] for a unit-pressure live load).
+    status : str
+        ``"optimal"`` or ``"optimal_inaccurate"`` (certified after the retries).
+    is_inaccurate : bool
+    model, friction : str
+        Interface model and friction mode of the programme.
+    interface_forces : (m, 6) float
+        ``(N, V1, V2, M1, M2, M3)`` at collapse [N, N m], ``N > 0`` tension.
+    vertex_forces : (p, 3) float or None
+        ``(p, s1, s2)`` at each polygon corner [N] (vertex model).
+    velocities : (n_blocks, 6) float
+        Collapse mechanism from the equilibrium duals: block velocities ``(u, omega)``
+        [m/s, rad/s] normalised to unit live-load power ``F_L . u = 1``; zero on supported
+        dofs.
+    dead_power : float
+        ``F_D . u`` [W] (for the associated problem ``-dead_power`` equals ``lam``).
+    certificate : Certificate or None
+        None only when the caller asked for no certificate and the solve was ``optimal``.
+    compile_s, solve_s, wall_s : float
+        cvxpy compilation, Clarabel (all attempts) and total time [s].
+    n_blocks, n_free_dofs, n_interfaces, n_cones : int
+    settings : dict
+    attempts : list of (str, str)
+        ``(attempt, status)`` of every Clarabel solve, in order.
+    """
+
+    lam: float
+    status: str
+    is_inaccurate: bool
+    model: str
+    friction: str
+    interface_forces: np.ndarray
+    vertex_forces: np.ndarray | None
+    velocities: np.ndarray
+    dead_power: float
+    certificate: Certificate | None
+    compile_s: float
+    solve_s: float
+    wall_s: float
+    n_blocks: int
+    n_free_dofs: int
+    n_interfaces: int
+    n_cones: int
+    settings: dict = field(default_factory=dict)
+    attempts: list = field(default_factory=list)
+
+    def summary(self) -> dict:
+        """Scalars for a validation row."""
+        return {
+            "lam": self.lam,
+            "status": self.status,
+            "model": self.model,
+            "n_blocks": self.n_blocks,
+            "n_interfaces": self.n_interfaces,
+            "solve_s": self.solve_s,
+            "wall_s": self.wall_s,
+            "certificate_worst": self.certificate.worst(),
+            "duality_gap": self.certificate.duality_gap,
+        }
+
+
+def run_clarabel(
+    problem: cp.Problem, settings: LimitSettings, attempt: Attempt = REFINED
+) -> tuple[str, float]:
+    """One Clarabel solve; return cvxpy's status (``"solver_error"`` when Clarabel raised)
+    and the solver time [s]."""
+    try:
+        problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **attempt.options(settings))
+    except cp.error.SolverError as exc:
+        logger.info("Clarabel failed (%s attempt): %s", attempt.label, exc)
+        return "solver_error", 0.0
+    stats = problem.solver_stats
+    solve_s = float(stats.solve_time) if stats and stats.solve_time is not None else 0.0
+    return problem.status, solve_s
+
+
+def structural_error(status: str, outcomes: dict, history: str) -> LimitAnalysisError | None:
+    """The structural error of an infeasible or unbounded status (None for other statuses)."""
+    base = status.removesuffix("_inaccurate")
+    if base not in outcomes:
+        return None
+    cls, msg = outcomes[base]
+    return cls(f"{msg} [{history}]")
+
+
+def attempts_for(sp_: StaticProblem) -> tuple[Attempt, ...]:
+    """A programme of second-order cones only (vertex model) is first solved without
+    Clarabel's iterative refinement of the KKT solves, which costs 15-25 % on large walls and
+    changed no certified result we measured."""
+    if sp_.model == "vertex" and "iterative_refinement_enable" not in sp_.settings.clarabel:
+        return (Attempt("fast", refine=False), REFINED, TIGHTENED)
+    return (REFINED, TIGHTENED)
+
+
+def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
+    """Solve a compiled programme, map its status and certify the solution (module notes).
+
+    Parameters
+    ----------
+    sp_ : StaticProblem
+    certify : bool
+        Compute the certificate of an ``optimal`` solve and reject it above
+        ``settings.cert_tol``. An ``optimal_inaccurate`` one is always certified.
+
+    Raises
+    ------
+    DeadLoadInfeasibleError, NoMechanismError
+        The programme is infeasible (falls down by itself) or unbounded (no mechanism).
+    NumericalFailureError
+        No attempt gave a solution that passes its certificate.
+    """
+    settings = sp_.settings
+    implied = sp_.extra.get("implied_sign")
+    if implied is not None and np.any(np.asarray(sp_.mu.value)[implied] <= 0):
+        raise ValueError(
+            "mu was set to zero at corners whose p >= 0 row was left out as implied by the "
+            "friction cone: build the programme with mu = 0 in its settings instead"
+        )
+    t0 = time.perf_counter()
+    solve_s = 0.0
+    history: list[tuple[str, str]] = []
+    attempts = attempts_for(sp_)
+    failure = ""
+    for i, attempt in enumerate(attempts):
+        last = i == len(attempts) - 1
+        status, dt = run_clarabel(sp_.problem, settings, attempt)
+        solve_s += dt
+        history.append((attempt.label, status))
+        text = ", ".join(f"{a} {s}" for a, s in history)
+        err = structural_error(status, STATIC_OUTCOMES, f"solver status: {text}")
+        if err is not None and (attempt.refine and not status.endswith("_inaccurate") or last):
+            raise err
+        if status not in ACCEPTED or (status == "optimal_inaccurate" and not last):
+            failure = f"solver status {status}"
+            continue
+        result = _read_solution(sp_, status, certify or status != "optimal", t0, solve_s)
+        result.attempts = history
+        cert = result.certificate
+        if cert is None or cert.worst() <= settings.cert_tol:
+            if status == "optimal_inaccurate":
+                warnings.warn(
+                    f"limit analysis: Clarabel ended optimal_inaccurate ({text}); the point "
+                    f"passed its certificate (worst residual {cert.worst():.1e} <= cert_tol "
+                    f"{settings.cert_tol:.0e}) and is returned with that status",
+                    stacklevel=2,
+                )
+            return result
+        failure = (
+            f"the solution failed its certificate (worst relative residual {cert.worst():.2e} > "
+            f"cert_tol {settings.cert_tol:.1e}): {cert.to_dict()}"
+        )
+        logger.info("%s attempt rejected: %s", attempt.label, failure)
+    raise NumericalFailureError(
+        f"no certified optimum after {len(history)} Clarabel solves ({text}); last: {failure}. "
+        "Try a tighter LimitSettings.tol, more max_iter, or rescale the scene (units)."
+    )
+
+
+def _read_solution(
+    sp_: StaticProblem, status: str, certify: bool, t0: float, solve_s: float
+) -> LimitResult:
+    """Forces, mechanism and certificate of the solved programme (timed from ``t0``;
+    ``solve_s`` is the Clarabel time of every attempt so far)."""
+    settings = sp_.settings
+    wall = time.perf_counter() - t0
+    lam = float(sp_.lam.value) * sp_.lam_scale
+    f = sp_.interface_forces()
+    vertex_forces = None
+    if sp_.model == "vertex":
+        nv = len(sp_.vertex_iface)
+        vertex_forces = np.stack([np.ravel(v.value) for v in sp_.x_vars[:3]], axis=1)
+        vertex_forces = vertex_forces * sp_.weight
+        assert vertex_forces.shape == (nv, 3)
+    # equilibrium duals -> block velocities (z = -y for cvxpy's Equality)
+    z = -np.asarray(sp_.equilibrium.dual_value, dtype=float)
+    u_free = z * sp_.row_scale
+    live_power = float(sp_.live @ u_free)
+    if live_power != 0:
+        u_free = u_free / live_power
+    vel = np.zeros(6 * sp_.scene.n_blocks)
+    vel[sp_.free] = u_free
+    dead_eff = sp_.dead + sp_.a_eq @ sp_.f_offset
+    dead_power = float(dead_eff @ u_free)
+    cert = static_certificate(sp_, f, vertex_forces, lam) if certify else None
+    build_s = float(sp_.extra.get("build_s", 0.0))
+    return LimitResult(
+        lam=lam,
+        status=status,
+        is_inaccurate=status == "optimal_inaccurate",
+        model=sp_.model,
+        friction=sp_.friction,
+        interface_forces=f.reshape(-1, 6),
+        vertex_forces=vertex_forces,
+        velocities=vel.reshape(-1, 6),
+        dead_power=dead_power,
+        certificate=cert,
+        compile_s=max(wall - solve_s, 0.0) + build_s,
+        solve_s=solve_s,
+        wall_s=wall + build_s,
+        n_blocks=sp_.scene.n_blocks,
+        n_free_dofs=int(sp_.free.sum()),
+        n_interfaces=sp_.interfaces.n_interfaces,
+        n_cones=sp_.n_cones,
+        settings=settings.to_dict(),
+    )
+
+
+def static_certificate(sp_: StaticProblem, f, vertex_forces, lam) -> Certificate:
+    """Certificate of a solved static programme: the conic residuals of
+    :func:`conic_certificate`, the equilibrium and the interface strength recomputed in SI."""
+    conic = conic_certificate(sp_.problem)
+    eq = equilibrium_residual(sp_.a_eq, f.ravel(), sp_.dead, sp_.live, lam, sp_.row_scale)
+    if sp_.friction == "coulomb" and sp_.settings.friction_polygon is None:
+        # the Parameter holds 0 where mu = inf (no cone): the residual must see inf there
+        mu_set = sp_.mu_interface[sp_.vertex_iface] if sp_.model == "vertex" else sp_.mu_interface
+        mu_now = np.where(np.isfinite(mu_set), np.asarray(sp_.mu.value, float), np.inf)
+        tensile = sp_.settings.tensile_strength * sp_.interfaces.area
+        if sp_.model == "vertex":
+            yres = yield_residual(
+                "vertex",
+                f.reshape(-1, 6),
+                None,
+                None,
+                tensile,
+                sp_.weight,
+                vertex_forces=vertex_forces,
+                vertex_mu=mu_now,
+            )
+        else:
+            alpha = sp_.settings.torsion_alpha if sp_.settings.torsion == "interaction" else None
+            g, h, owner = rocking_constraints(sp_.interfaces)
+            yres = yield_residual(
+                "resultant",
+                f.reshape(-1, 6),
+                mu_now,
+                sp_.c_t,
+                tensile,
+                sp_.weight,
+                alpha=alpha,
+                rocking=(g, h, owner),
+            )
+    else:
+        yres = float("nan")
+    return Certificate(
+        primal_residual=conic["primal_residual"],
+        equilibrium_residual=eq,
+        yield_residual=yres,
+        dual_cone_residual=conic["dual_cone_residual"],
+        stationarity=conic["stationarity"],
+        duality_gap=conic["duality_gap"],
+        complementarity=conic["complementarity"],
+        dual_objective=conic["dual_objective"] * sp_.lam_scale,
+    )

@@ -1,0 +1,155 @@
+r"""Geometric safety factor: bisection on a geometry parameter with the dead-load check.
+
+Heyman's geometric factor of safety of a masonry structure is the ratio of its actual
+thickness to the least thickness at which it can still stand under its own weight (for an
+arch, the thickness whose thrust line just fits). Here the user supplies ``build(t) -> Scene``
+for a geometry parameter ``t`` (a thickness, a width, a slope) and a bracket ``[lo, hi]``
+at whose ends the scene stands at one end and falls at the other; the critical value is found
+by bisection with :func:`limit.deadload.stands`, each side certified: the standing side by an
+admissible equilibrium, the falling side by a dual bound below one.
+
+The outcomes are told apart by type, never by text: a scene that falls is a ``False`` of
+:func:`stands` (its :class:`~limit.errors.DeadLoadInfeasibleError` counterpart), a numerical
+failure is a :class:`~limit.errors.NumericalFailureError` and stops the bisection with the
+parameter value in its message, and an invalid geometry is the builder's ``ValueError``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from dem.scene import Scene
+from limit.deadload import StandsResult, stands
+from limit.errors import NumericalFailureError
+from limit.problems import LimitSettings
+
+__all__ = ["GeometricSafetyResult", "geometric_safety_factor"]
+
+
+@dataclass(frozen=True)
+class GeometricSafetyResult:
+    """Outcome of :func:`geometric_safety_factor`.
+
+    Attributes
+    ----------
+    critical : float
+        The parameter value between standing and falling (midpoint of the final bracket).
+    stands_above : bool
+        The scene stands for values above ``critical`` (a thickness) or below it (a slope).
+    bracket : (float, float)
+        ``(falls_at, stands_at)``: the last values proven to fall and to stand,
+        ``|stands_at - falls_at| <= rtol * |critical|``.
+    factor : float or None
+        For ``actual``: ``actual / critical`` when it stands above, ``critical / actual``
+        when it stands below (above one: safe). None without ``actual``.
+    standing, falling : StandsResult
+        The certified checks at the two ends of the final bracket.
+    history : list of (float, bool)
+        Every parameter value checked and whether it stood, in order.
+    wall_s : float
+        [s].
+    """
+
+    critical: float
+    stands_above: bool
+    bracket: tuple[float, float]
+    factor: float | None
+    standing: StandsResult
+    falling: StandsResult
+    history: list = field(default_factory=list)
+    wall_s: float = 0.0
+
+
+def _check(build: Callable[[float], Scene], t: float, settings: LimitSettings) -> StandsResult:
+    try:
+        return stands(build(t), settings)
+    except NumericalFailureError as exc:
+        raise NumericalFailureError(f"dead-load check at parameter {t:.6g}: {exc}") from exc
+
+
+def geometric_safety_factor(
+    build: Callable[[float], Scene],
+    lo: float,
+    hi: float,
+    *,
+    actual: float | None = None,
+    settings: LimitSettings | None = None,
+    rtol: float = 1e-3,
+    max_steps: int = 60,
+) -> GeometricSafetyResult:
+    """Critical value of a geometry parameter by bisection, and the geometric safety factor.
+
+    Parameters
+    ----------
+    build : callable
+        ``build(t) -> Scene`` for the parameter ``t`` (its unit is the caller's).
+    lo, hi : float
+        Bracket, ``lo < hi``: the scene must stand at one end and fall at the other.
+    actual : float, optional
+        The design value of the parameter; gives ``factor``.
+    settings : LimitSettings, optional
+        Interface model and strengths of the dead-load check.
+    rtol : float
+        Stop when the bracket is narrower than ``rtol * |critical|`` (or ``rtol`` near 0).
+    max_steps : int
+        Largest number of bisection steps.
+
+    Raises
+    ------
+    ValueError
+        A bad bracket, or a scene that stands (or falls) at both ends.
+    NumericalFailureError
+        A dead-load check without a certified answer (the parameter value is named).
+    """
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ValueError(f"the bracket needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
+    if not 0 < rtol < 1:
+        raise ValueError(f"rtol must lie in (0, 1), got {rtol}")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
+        raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
+    settings = settings or LimitSettings()
+    t0 = time.perf_counter()
+    at_lo, at_hi = _check(build, lo, settings), _check(build, hi, settings)
+    history = [(lo, at_lo.stands), (hi, at_hi.stands)]
+    if at_lo.stands == at_hi.stands:
+        state = "stands" if at_lo.stands else "falls"
+        raise ValueError(
+            f"the scene {state} at both ends of the bracket [{lo:g}, {hi:g}]: widen it so that "
+            "it stands at one end and falls at the other"
+        )
+    stands_above = at_hi.stands
+    (t_fall, fall), (t_stand, stand) = (
+        ((lo, at_lo), (hi, at_hi))
+        if stands_above
+        else (
+            (hi, at_hi),
+            (lo, at_lo),
+        )
+    )
+    for _ in range(max_steps):
+        mid = 0.5 * (t_fall + t_stand)
+        if abs(t_stand - t_fall) <= rtol * max(abs(mid), rtol):
+            break
+        check = _check(build, mid, settings)
+        history.append((mid, check.stands))
+        if check.stands:
+            t_stand, stand = mid, check
+        else:
+            t_fall, fall = mid, check
+    critical = 0.5 * (t_fall + t_stand)
+    factor = None
+    if actual is not None:
+        factor = actual / critical if stands_above else critical / actual
+    return GeometricSafetyResult(
+        critical=critical,
+        stands_above=stands_above,
+        bracket=(t_fall, t_stand),
+        factor=factor,
+        standing=stand,
+        falling=fall,
+        history=history,
+        wall_s=time.perf_counter() - t0,
+    )
