@@ -4,7 +4,7 @@
    node spacings, serial and parallel contact loops, and the share of the contact kernel and of
    the force accumulation in a step: wall and process-CPU time per step and per node (the
    machine is shared: CPU / wall says how much of the cores we had, the load average is
-   printed).
+   printed). ``contacts`` is the node loop alone (forces and their sums per block).
 2. The full 5 x 5, 2.5 degree run (relaxation + indentation until the central block is out) at
    the discretisation ``tis-convergence`` calls converged (``validation.cases.tis.CONVERGED``),
    with its wall time and cost per node per step (issue 12 target: 15 ns).
@@ -28,7 +28,7 @@ import os
 import time
 
 from dem.explicit import ExplicitModel, ExplicitSettings, RelaxationSettings
-from dem.kernels.contact_force import accumulate_wrenches, node_contacts, node_contacts_parallel
+from dem.kernels.contact_force import node_contacts, node_contacts_parallel
 from dem.kernels.integrate import quat_to_rot
 from dem.scenes.tis_panel import tis_panel
 from dem.tis_stiffness import tis_panel_k_def
@@ -58,7 +58,7 @@ def clock(fn, n: int) -> tuple[float, float]:
 
 
 def step_cost(model: ExplicitModel, n_steps: int) -> dict:
-    """Per-step cost of the whole step and of its two node loops."""
+    """Per-step cost of the whole step and of its node loop."""
     nodes = model.nodes.n_nodes + len(model.indenter.block)
     st, sc = model.state, model.scratch
     quat_to_rot(st.motion.quat, sc.rot)
@@ -68,9 +68,6 @@ def step_cost(model: ExplicitModel, n_steps: int) -> dict:
         "step": clock(lambda: model.advance(n_steps), 1),
         "contacts": clock(lambda: kernel(model.surface, contacts, st.motion, model.bodies,
                                          model.shapes, model.law, 0.0, sc), n_steps),
-        "accumulate": clock(lambda: accumulate_wrenches(
-            contacts.node, contacts.block, model.surface.block, st.motion.pos, sc.out_force,
-            sc.out_point, sc.force, sc.torque), n_steps),
     }  # fmt: skip
     step_wall, step_cpu = parts["step"]
     parts["step"] = (step_wall / n_steps, step_cpu / n_steps)

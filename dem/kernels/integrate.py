@@ -26,7 +26,6 @@ from numba import njit
 
 from dem.kernels.broadphase import needs_rebuild
 from dem.kernels.contact_force import (
-    accumulate_wrenches,
     node_contacts,
     node_contacts_parallel,
     sphere_contacts,
@@ -214,8 +213,6 @@ def run_steps(
             node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch)
         else:
             node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch)
-        accumulate_wrenches(contacts.node, contacts.block, nodes.block, pos, scratch.out_force,
-                            scratch.out_point, scratch.force, scratch.torque)  # fmt: skip
         if indenter.active:
             for k in range(3):
                 centre[k] = indenter.centre0[k] + indenter.velocity[k] * (t - indenter.t0)
