@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from dem.explicit import LiveLoadRamp, TiltingTable, masonry_settings, simulate_lateral
-from dem.scene import Scene
+from dem.scene import Scene, proportional_to_weight
 from dem.scenes.seed001_walls import SPECIMENS
 from dem.static import StaticSettings, solve_collapse
 from limit.errors import LimitAnalysisError
@@ -39,7 +39,7 @@ THICKNESS = 0.2  # [m], small scenes, out of the tilt plane
 REFINEMENTS = 4
 STEP = 0.05
 
-WALLS_QUICK = (("restrepo-S15", "fixed_column"),)
+WALLS_QUICK = (("orduna-3x13", "translations"),)
 WALLS_FULL = (
     ("orduna-3x13", "translations"),
     ("orduna-3x13", "blocks"),
@@ -86,11 +86,14 @@ def box(lo, hi) -> np.ndarray:
 
 
 def stack_on_ground(b: float, h: float, mu: float, n_blocks: int = 1) -> Scene:
-    """``n_blocks`` blocks ``b`` (along the tilt, y) by ``h`` stacked on a fixed base [m]."""
+    """``n_blocks`` blocks ``b`` (along the tilt, y) by ``h`` stacked on a fixed base [m], live
+    load the weight along +y."""
     ground = box((-1.0, -1.0, -0.2), (1.0, 1.0, 0.0))
     blocks = [box((0.0, 0.0, k * h), (THICKNESS, b, (k + 1) * h)) for k in range(n_blocks)]
-    return Scene.from_convex_blocks(blocks + [ground], DENSITY, fixed=[n_blocks], mu=mu,
-                                    name=f"stack{n_blocks}_b{b}_h{h}_mu{mu}")  # fmt: skip
+    scene = Scene.from_convex_blocks(blocks + [ground], DENSITY, fixed=[n_blocks], mu=mu,
+                                     name=f"stack{n_blocks}_b{b}_h{h}_mu{mu}")  # fmt: skip
+    # the live load of the static DEM and the limit analysis: the weight along +y
+    return scene.with_loads(live=proportional_to_weight(scene.assembly, (0.0, 1.0, 0.0)))
 
 
 SMALL = (
