@@ -54,12 +54,14 @@ WALLS_FULL = (
 )
 
 NOTES = """\
-Bracket: `lambda_stable` is the last held multiplier at which every block came to rest,
-`lambda_moving` the first at which a block kept moving (speed above `speed_tol` after the
-holds, or a displacement above `displacement_tol` in one step); first steps of 0.05, then
-{refinements} bisections. `ours` is `lambda_moving`. A block past its threshold by `epsilon`
-is missed only if `g epsilon hold < speed_tol`: `detection_lambda` in each row bounds how far
-the bracket can sit above the true threshold.
+Bracket: `lambda_stable` is the last held multiplier at which every block came to rest (or
+stayed below the displacement threshold through the longest hold), `lambda_moving` the first at
+which a block moved more than `displacement_tol` (5 % of the block size) in one ramp and hold;
+first steps of 0.05, then {refinements} bisections; the motion at `lambda_moving` is then
+followed (`mechanism_confirmed`: a block moved 4 thresholds; `moving_blocks`). `ours` is
+`lambda_moving`. With local damping `c`, a block past its threshold by `epsilon` travels the
+threshold within the longest hold `T` unless `epsilon < 2 displacement_tol / ((1 - c) g T^2)`:
+`detection_lambda` in each row, the most the bracket can sit above the true threshold.
 
 Where dynamics and the static path legitimately differ:
 
@@ -70,7 +72,8 @@ Where dynamics and the static path legitimately differ:
 - The explicit DEM stops at the first load at which any block keeps moving, however local
   (a block sliding out of a free edge); the static DEM follows the path to a global plateau
   of its load-displacement curve and may go past local slips by redistribution. The explicit
-  bracket can therefore sit below the static lambda_max.
+  bracket can therefore sit below the static lambda_max; it can also sit above it, when the
+  two paths reach different frictional states of the joints (first point above).
 - The static DEM's fibre law is a grid of springs per joint; the explicit DEM uses nodes on
   one face of each joint with a penalty `k_n` (E / L in series with the joint stiffness,
   `dem.explicit.stiffness`); the collapse of rigid blocks does not depend on either stiffness,
