@@ -146,3 +146,13 @@ def test_masonry_settings_kn_from_material():
     assert settings.node_layout == "vertex"
     np.testing.assert_allclose(settings.node_spacing, 0.1 / 4, rtol=1e-12)
     assert isinstance(settings, ExplicitSettings)
+
+
+def test_kn_from_material_refuses_bad_input():
+    from dem.explicit import k_n_from_material
+
+    with pytest.raises(ValueError, match="young"):
+        k_n_from_material(stack_on_ground(0.1, 0.25, 0.7), young=-1.0)
+    lone = Scene.from_convex_blocks([box((0, 0, 0), (0.1, 0.1, 0.1))], DENSITY, mu=0.5)
+    with pytest.raises(ValueError, match="no face-to-face interface"):
+        k_n_from_material(lone)
