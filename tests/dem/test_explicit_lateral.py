@@ -156,3 +156,16 @@ def test_kn_from_material_refuses_bad_input():
     lone = Scene.from_convex_blocks([box((0, 0, 0), (0.1, 0.1, 0.1))], DENSITY, mu=0.5)
     with pytest.raises(ValueError, match="no face-to-face interface"):
         k_n_from_material(lone)
+
+
+def test_tilting_table_turns_gravity():
+    """At lambda = tan(theta) the weight keeps its magnitude m g and leans by theta towards the
+    tilt direction: horizontal / vertical = lambda; the live-load ramp adds lambda m g."""
+    scene = stack_on_ground(0.1, 0.25, 0.7)
+    weight = scene.assembly.mass[0] * 9.81
+    w = TiltingTable(direction=(0.0, 1.0, 0.0)).wrench(scene, 0.75)
+    np.testing.assert_allclose(np.linalg.norm(w[0, :3]), weight, rtol=1e-12)
+    np.testing.assert_allclose(w[0, 1] / -w[0, 2], 0.75, rtol=1e-12)
+    live = scene.with_loads(live=proportional_to_weight(scene.assembly, (0.0, 1.0, 0.0)))
+    r = LiveLoadRamp().wrench(live, 0.75)
+    np.testing.assert_allclose(r[0, :3], [0.0, 0.75 * weight, -weight], rtol=1e-12)
