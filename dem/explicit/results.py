@@ -86,8 +86,9 @@ class LateralResult:
     record_stable : (r,) bool
         Whether that step ended at rest.
     detection_lambda : float
-        Largest overshoot of the bracket above the true threshold that the speed threshold
-        allows, ``speed_tol / (g hold)``.
+        Largest overshoot of the bracket above the true threshold that the motion criteria
+        allow, ``2 displacement_tol / ((1 - c) g T^2)`` with ``c`` the local damping and ``T``
+        the longest hold (see :mod:`dem.explicit.lateral`).
     speed_tol, displacement_tol : float
         The motion thresholds [m/s], [m].
     wall_s : float
