@@ -44,8 +44,8 @@ RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
 K_IMP_3 = k_series(tis_panel_k_def(3), K_GAPS_SEED_000) / (GPA / MM)
 SMALL = {"n": 3, "theta_deg": 2.5, "k_n_gpa_mm": K_IMP_3, "disc": QUICK, "mu_mean": 0.23,
          "mu_std": 0.06, "stop_below_peak_fraction": 0.85}  # fmt: skip
-STUDIES = {"tis-friction-uq": 65, "tis-gaps-uq": 66, "masonry-uq": 129}
-"""Tasks of each full study (64 + 1, 4 x 16 + 2, 128 + 1)."""
+STUDIES = {"tis-friction-uq": 65, "tis-gaps-uq": 66, "masonry-uq": 65}
+"""Tasks of each full study (64 + 1, 4 x 16 + 2, 64 + 1)."""
 
 
 def _cluster(n_workers: int, threads: int = 1):
