@@ -517,7 +517,9 @@ def run_masonry_uq(quick: bool):
         "on_failure='return'; a run counts as collapsed when the solver flags it (a plateau, "
         "softening or snap-back); the others are counted apart with their termination. "
         "Limit: associated vertex model (an upper bound for zero-dilatancy friction). "
-        "The nominal row: no scatter, 3-block return walls."
+        "The nominal row: no scatter, 3-block return walls. Static settings: "
+        + (str(static) if static else "the defaults (5 x 5 fibres, load step 0.01)")
+        + (" (quick: coarse)." if quick else ".")
     )
     return rows, notes
 
