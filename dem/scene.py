@@ -387,7 +387,10 @@ def uniform_pressure(
         raise ValueError(f"pressure direction must be a finite non-zero 3-vector, got {direction}")
     d = d / np.linalg.norm(d)
     out = np.zeros((assembly.n_blocks, 6))
-    ids = range(assembly.n_blocks) if blocks is None else blocks
+    ids = range(assembly.n_blocks) if blocks is None else list(blocks)
+    bad = [i for i in ids if not isinstance(i, int | np.integer) or not 0 <= i < assembly.n_blocks]
+    if bad:
+        raise ValueError(f"blocks must be block indices 0..{assembly.n_blocks - 1}, got {bad[:10]}")
     for i in ids:
         blk = assembly.blocks[i]
         for face, normal in zip(blk.faces, blk.normals, strict=True):
@@ -406,8 +409,9 @@ def point_load(
     assembly: Assembly, block: int, point: Sequence[float], force: Sequence[float]
 ) -> np.ndarray:
     """(n_blocks, 6) a force [N] applied at ``point`` [m] of one block, moved to its centroid."""
-    if not 0 <= block < assembly.n_blocks:
-        raise ValueError(f"block index {block} out of range 0..{assembly.n_blocks - 1}")
+    if not isinstance(block, int | np.integer) or not 0 <= block < assembly.n_blocks:
+        raise ValueError(f"block index {block!r} out of range 0..{assembly.n_blocks - 1}")
+    check_finite(point=point, force=force)
     out = np.zeros((assembly.n_blocks, 6))
     f = np.asarray(force, dtype=float)
     out[block, :3] = f

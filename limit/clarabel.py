@@ -236,7 +236,10 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
         history.append((attempt.label, status))
         text = ", ".join(f"{a} {s}" for a, s in history)
         err = structural_error(status, STATIC_OUTCOMES, f"solver status: {text}")
-        if err is not None and (attempt.refine and not status.endswith("_inaccurate") or last):
+        # an accurate infeasible/unbounded answer of a refined solve is final; an inaccurate
+        # one, or one from the fast solve, is tried again while attempts remain
+        accurate = attempt.refine and not status.endswith("_inaccurate")
+        if err is not None and (accurate or last):
             raise err
         if status not in ACCEPTED or (status == "optimal_inaccurate" and not last):
             failure = f"solver status {status}"

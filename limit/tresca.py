@@ -40,7 +40,12 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
-from limit.errors import LimitAnalysisError
+from limit.errors import (
+    DeadLoadInfeasibleError,
+    LimitAnalysisError,
+    NoMechanismError,
+    NumericalFailureError,
+)
 from limit.voronoi_packing import Packing
 
 logger = logging.getLogger(__name__)
@@ -69,7 +74,7 @@ class TrescaSettings:
         and Clarabel's defaults (1e-8) leave ~1e-6 relative error on the forces. Default 1e-12.
     feas_tol : float
         Relative tolerance of the certificates (equilibrium, friction bound, gap) above which
-        the result is rejected with :class:`LimitAnalysisError`. Default 1e-6.
+        the result is rejected with :class:`NumericalFailureError`. Default 1e-6.
     """
 
     solver: str = "CLARABEL"
@@ -282,15 +287,32 @@ def admissibility_residuals(
     return eq, float(np.max(viol)) / scale
 
 
-def _accept(problem: cp.Problem, what: str, hint: str) -> bool:
-    """Status map of STYLE.md: return True if inaccurate, raise unless optimal."""
+def _accept(
+    problem: cp.Problem,
+    what: str,
+    hint: str,
+    unbounded: type[LimitAnalysisError] = NumericalFailureError,
+    infeasible: type[LimitAnalysisError] = DeadLoadInfeasibleError,
+) -> bool:
+    """Status map of STYLE.md: return True if inaccurate, raise unless optimal.
+
+    An unbounded or infeasible programme raises the outcome it means for this programme
+    (``unbounded``, ``infeasible``: classes of :mod:`limit.errors`); any other status is a
+    :class:`NumericalFailureError`.
+    """
     status = problem.status
     if status == cp.OPTIMAL:
         return False
     if status == cp.OPTIMAL_INACCURATE:
         warnings.warn(f"{what}: solver returned 'optimal_inaccurate'", RuntimeWarning, stacklevel=3)
         return True
-    raise LimitAnalysisError(f"{what}: solver status {status!r}. {hint}")
+    error = {
+        cp.UNBOUNDED: unbounded,
+        cp.UNBOUNDED_INACCURATE: unbounded,
+        cp.INFEASIBLE: infeasible,
+        cp.INFEASIBLE_INACCURATE: infeasible,
+    }.get(status, NumericalFailureError)
+    raise error(f"{what}: solver status {status!r}. {hint}")
 
 
 def solve_tresca(
@@ -319,10 +341,11 @@ def solve_tresca(
     ------
     ValueError
         Bad shapes, non-finite data, or a traction with a non-zero resultant.
-    LimitAnalysisError
-        The LP is unbounded (no equilibrated force set respects non-interpenetration and the
-        Tresca bound: the packing is not jammed under this load), the solver fails, or the
-        returned point fails its certificate.
+    DeadLoadInfeasibleError
+        The LP is unbounded: no equilibrated force set respects non-interpenetration and the
+        Tresca bound (the packing is not jammed under this load).
+    NumericalFailureError
+        The solver fails, or the returned point fails its certificate.
     """
     settings = settings or TrescaSettings()
     if packing.n_edges == 0:
@@ -360,6 +383,7 @@ def solve_tresca(
         "Tresca LP (seed 003 Eq. 16)",
         "An unbounded LP means no force set balances the load with compression and "
         "|f_t| <= s|e| (tensile load, or shear above the Tresca threshold).",
+        unbounded=DeadLoadInfeasibleError,
     )
     u = np.asarray(x.value)
     slip = np.asarray(tau.value)
@@ -381,7 +405,7 @@ def solve_tresca(
     wall = time.perf_counter() - start
     tol = settings.feas_tol
     if eq_res > tol or fr_res > tol or abs(gap) > tol * scale * length_scale:
-        raise LimitAnalysisError(
+        raise NumericalFailureError(
             f"Tresca solution fails its certificate: equilibrium {eq_res:.2e}, friction "
             f"{fr_res:.2e}, duality gap {gap:.2e} J/m (tolerance {tol:.1e})"
         )
@@ -534,9 +558,12 @@ def max_load_multiplier(
 
     Raises
     ------
-    LimitAnalysisError
-        Unbounded (the live load never fails the packing) or infeasible (the dead load alone
-        is not admissible), or any other non-optimal status.
+    NoMechanismError
+        Unbounded: the live load never fails the packing.
+    DeadLoadInfeasibleError
+        Infeasible, or optimal at a negative multiplier: the dead load alone is not admissible.
+    NumericalFailureError
+        Any other non-optimal status, or a point that fails its certificate.
     """
     settings = settings or TrescaSettings()
     s_e = _check_s(packing, s)
@@ -552,21 +579,45 @@ def max_load_multiplier(
     lam = cp.Variable(n_e)
     f_t = cp.Variable(n_e)
     alpha = cp.Variable()
-    problem = cp.Problem(
-        cp.Maximize(alpha),
-        [
-            A[keep] @ cp.hstack([lam, f_t]) + dead.ravel()[keep] + alpha * live.ravel()[keep] == 0,
+
+    def admissible(multiplier):
+        load = dead.ravel()[keep] + multiplier * live.ravel()[keep]
+        return [
+            A[keep] @ cp.hstack([lam, f_t]) + load == 0,
             lam >= 0,
             cp.abs(f_t) <= s_e * packing.edge_length,
-        ],
-    )
+        ]
+
+    problem = cp.Problem(cp.Maximize(alpha), admissible(alpha))
     problem.solve(solver=settings.solver)
-    inaccurate = _accept(problem, "Tresca load multiplier", "Unbounded: the live load never fails.")
+    try:
+        inaccurate = _accept(
+            problem,
+            "Tresca load multiplier",
+            "Unbounded: the live load never fails; infeasible: the dead load alone is not carried.",
+            unbounded=NoMechanismError,
+        )
+    except NoMechanismError:
+        # an interior-point solver may report a programme that is both primal and dual
+        # infeasible as unbounded: only a dead load that is carried leaves the live load free
+        dead_only = cp.Problem(cp.Minimize(0), admissible(0.0))
+        dead_only.solve(solver=settings.solver)
+        if dead_only.status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
+            raise DeadLoadInfeasibleError(
+                "Tresca load multiplier: the dead load alone is not carried (no admissible "
+                "force set at multiplier 0)"
+            ) from None
+        raise
     a_star = float(alpha.value)
+    if a_star < 0:
+        raise DeadLoadInfeasibleError(
+            f"Tresca load multiplier: the dead load alone is not carried (only the live load "
+            f"reversed, times {-a_star:.6g}, would balance it): no load multiplier exists"
+        )
     traction = np.asarray(dead_traction) + a_star * np.asarray(live_traction)
     eq, _ = admissibility_residuals(packing, traction, s_e, lam.value, f_t.value)
     if eq > settings.feas_tol:
-        raise LimitAnalysisError(f"load multiplier fails its equilibrium certificate: {eq:.2e}")
+        raise NumericalFailureError(f"load multiplier fails its equilibrium certificate: {eq:.2e}")
     return TrescaMultiplierResult(
         load_multiplier=a_star,
         normal_force=np.asarray(lam.value),

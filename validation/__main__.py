@@ -1,4 +1,5 @@
-"""Command line: ``python -m validation list | run CASE [--quick] | all [--quick]``."""
+"""Command line: ``python -m validation list | run CASE [--quick] | all [--quick] |
+crosscheck SCENE [--live x] [--out DIR] [--methods ...] [--quick]``."""
 
 from __future__ import annotations
 
@@ -12,6 +13,9 @@ from collections.abc import Callable
 from pathlib import Path
 
 import validation.cases
+from validation.crosscheck.cli import add_arguments as add_crosscheck_arguments
+from validation.crosscheck.cli import run as run_crosscheck
+from validation.main_job import run_all
 from validation.report import RESULTS_DIR, staged, write_results
 
 
@@ -45,9 +49,10 @@ def _failed_import(module: str, exc: Exception) -> Callable:
 CASES = discover_cases()
 
 
-def run_case(name: str, quick: bool, out_dir: Path | None = None) -> None:
+def run_case(name: str, quick: bool, out_dir: Path | None = None) -> list:
     """Run one case and write ``validation/results/NAME.{json,md}`` and its side products
-    together (:func:`validation.report.staged`); warning filters the case sets end with it."""
+    together (:func:`validation.report.staged`); warning filters the case sets end with it.
+    Returns the case's rows."""
     start = time.perf_counter()
     with staged(name, out_dir) as stage, warnings.catch_warnings():
         out = CASES[name](quick=quick)
@@ -56,6 +61,7 @@ def run_case(name: str, quick: bool, out_dir: Path | None = None) -> None:
         write_results(name, rows, quick=quick, wall_s=wall, notes=notes, out_dir=stage)
     final = Path(RESULTS_DIR if out_dir is None else out_dir)
     print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {final / name}.{{json,md}}")
+    return rows
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -67,17 +73,27 @@ def main(argv: list[str] | None = None) -> int:
     run.add_argument("--quick", action="store_true", help="small, fast version")
     every = sub.add_parser("all", help="run every case")
     every.add_argument("--quick", action="store_true", help="small, fast versions")
+    every.add_argument(
+        "--verbose", action="store_true", help="print everything instead of one line per case"
+    )
     for p in (run, every):
         _add_cluster_args(p)
+    cross = sub.add_parser("crosscheck", help="every method on one scene -> report")
+    add_crosscheck_arguments(cross)
     args = parser.parse_args(argv)
 
     if args.command == "list":
         for name in CASES:
             print(name)
         return 0
+    if args.command == "crosscheck":
+        return run_crosscheck(args)
     names = [args.case] if args.command == "run" else list(CASES)
     if args.workers is not None or args.scheduler:
         return _run_on_cluster(names, args)
+    if args.command == "all" and not args.verbose:
+        summaries = run_all(names, run_case, args.quick, RESULTS_DIR / "validation.log")
+        return 1 if any(s.failed for s in summaries) else 0
     failed = []
     for name in names:
         try:

@@ -33,6 +33,7 @@ from dem.scene import Assembly, Loads, Scene, Supports, check_finite, proportion
 from dem.scenes.running_bond_wall import (
     beam_load_wrench,
     box_corners,
+    check_wall_numbers,
     cut_openings,
     parse_openings,
 )
@@ -87,17 +88,10 @@ def wall_with_returns(
         table). ``meta["wall"]`` labels blocks 0 (main), 1 (left return), 2 (right return),
         -1 (foundation); ``meta["course"]`` gives the course (-1 for the foundation).
     """
-    check_finite(
-        n_per_course=n_per_course,
-        n_courses=n_courses,
-        a_mm=a_mm,
-        b_mm=b_mm,
-        s_mm=s_mm,
-        unit_weight_kn_m3=unit_weight_kn_m3,
-        return_blocks=return_blocks,
-        openings_mm=openings_mm or None,
-        beam_loads_kn=beam_loads_kn or None,
+    check_wall_numbers(
+        n_per_course, n_courses, a_mm, b_mm, s_mm, unit_weight_kn_m3, openings_mm, beam_loads_kn
     )
+    check_finite(return_blocks=return_blocks)
     n, nc, nr = int(n_per_course), int(n_courses), int(return_blocks)
     if n != n_per_course or n < 2 or nc != n_courses or nc < 1:
         raise ValueError(
@@ -109,14 +103,6 @@ def wall_with_returns(
     bad = set(returns) - set(SIDES)
     if bad or not returns:
         raise ValueError(f"returns must be a non-empty subset of {SIDES}, got {list(returns)}")
-    for label, v in (
-        ("a_mm", a_mm),
-        ("b_mm", b_mm),
-        ("s_mm", s_mm),
-        ("unit_weight_kn_m3", unit_weight_kn_m3),
-    ):
-        if not np.isfinite(v) or v <= 0:
-            raise ValueError(f"{label} must be positive and finite, got {v}")
     a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
     if s >= b:
         raise ValueError(f"the corner bond needs s < b, got s = {s_mm} mm, b = {b_mm} mm")

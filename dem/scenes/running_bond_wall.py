@@ -120,6 +120,31 @@ def beam_load_wrench(
     return out
 
 
+def check_wall_numbers(
+    n_per_course, n_courses, a_mm, b_mm, s_mm, unit_weight_kn_m3, openings_mm, beam_loads_kn
+) -> None:
+    """Name the first of a wall builder's numbers that is NaN or infinite, then a block
+    dimension or unit weight that is not positive (the counts are checked by the builder)."""
+    check_finite(
+        n_per_course=n_per_course,
+        n_courses=n_courses,
+        a_mm=a_mm,
+        b_mm=b_mm,
+        s_mm=s_mm,
+        unit_weight_kn_m3=unit_weight_kn_m3,
+        openings_mm=openings_mm,
+        beam_loads_kn=beam_loads_kn,
+    )
+    for label, v in (
+        ("a_mm", a_mm),
+        ("b_mm", b_mm),
+        ("s_mm", s_mm),
+        ("unit_weight_kn_m3", unit_weight_kn_m3),
+    ):
+        if v <= 0:
+            raise ValueError(f"{label} must be positive and finite, got {v}")
+
+
 def running_bond_wall(
     n_per_course: int,
     n_courses: int,
@@ -173,29 +198,14 @@ def running_bond_wall(
         Wall blocks first, course by course from the left, then the foundation.
         ``meta["course"]`` gives each block's course (-1 for the foundation).
     """
-    check_finite(
-        n_per_course=n_per_course,
-        n_courses=n_courses,
-        a_mm=a_mm,
-        b_mm=b_mm,
-        s_mm=s_mm,
-        unit_weight_kn_m3=unit_weight_kn_m3,
-        openings_mm=openings_mm or None,
-        beam_loads_kn=beam_loads_kn or None,
+    check_wall_numbers(
+        n_per_course, n_courses, a_mm, b_mm, s_mm, unit_weight_kn_m3, openings_mm, beam_loads_kn
     )
     n, nc = int(n_per_course), int(n_courses)
     if n != n_per_course or n < 1 or nc != n_courses or nc < 1:
         raise ValueError(
             f"n_per_course and n_courses must be positive integers, got {n_per_course}, {n_courses}"
         )
-    for label, v in (
-        ("a_mm", a_mm),
-        ("b_mm", b_mm),
-        ("s_mm", s_mm),
-        ("unit_weight_kn_m3", unit_weight_kn_m3),
-    ):
-        if not np.isfinite(v) or v <= 0:
-            raise ValueError(f"{label} must be positive and finite, got {v}")
     bad = set(fixed_columns) - {"left", "right"}
     if bad:
         raise ValueError(f"fixed_columns must be a subset of ('left', 'right'), got {sorted(bad)}")

@@ -140,32 +140,21 @@ def test_per_block_values_of_the_wrong_length_are_refused(name):
         Assembly.from_convex_blocks([cube, cube + [0, 0, 1], cube + [0, 0, 2]], **kw)
 
 
+WALL = dict(
+    n_per_course=3,
+    n_courses=2,
+    a_mm=50.0,
+    b_mm=200.0,
+    s_mm=100.0,
+    unit_weight_kn_m3=20.0,
+    beam_loads_kn=[(100.0, 1.0)],
+    openings_mm=[(200.0, 0.0, 400.0, 50.0)],
+)
 BUILDERS = {
-    "running_bond_wall": (
-        "dem.scenes.running_bond_wall",
-        dict(
-            n_per_course=3,
-            n_courses=2,
-            a_mm=50.0,
-            b_mm=200.0,
-            s_mm=100.0,
-            unit_weight_kn_m3=20.0,
-            beam_loads_kn=[(100.0, 1.0)],
-            openings_mm=(),
-        ),
-    ),
+    "running_bond_wall": ("dem.scenes.running_bond_wall", WALL),
     "wall_with_returns": (
         "dem.scenes.return_walls",
-        dict(
-            n_per_course=3,
-            n_courses=2,
-            a_mm=50.0,
-            b_mm=200.0,
-            s_mm=100.0,
-            unit_weight_kn_m3=20.0,
-            return_blocks=2,
-            beam_loads_kn=[(300.0, 1.0)],
-        ),
+        {**WALL, "return_blocks": 2, "beam_loads_kn": [(300.0, 1.0)]},
     ),
     "tis_panel": (
         "dem.scenes.tis_panel",
@@ -178,8 +167,8 @@ def _bad_cases():
     for builder, (_, kw) in BUILDERS.items():
         for name, value in kw.items():
             if isinstance(value, list):
-                yield builder, name, [(value[0][0], np.nan)]
-                yield builder, name, [(np.inf, value[0][1])]
+                yield builder, name, [(*value[0][:-1], np.nan)]
+                yield builder, name, [(np.inf, *value[0][1:])]
             elif not isinstance(value, tuple):
                 yield builder, name, np.nan
                 yield builder, name, np.inf
@@ -227,3 +216,15 @@ def test_a_density_in_tonnes_warns():
     cube = box_corners((0, 0, 0), (1, 1, 1))
     with pytest.warns(MixedUnitsWarning, match=r"block 0 \(density 2e\+03.* block 1 \(density 2 "):
         Assembly.from_convex_blocks([cube, cube + [0, 0, 1]], [2000.0, 2.0])
+
+
+def test_load_helpers_name_bad_blocks_and_values(cube_on_ground):
+    from dem.scene import uniform_pressure
+
+    a = cube_on_ground.assembly
+    with pytest.raises(ValueError, match=r"blocks must be block indices 0..1, got \[5\]"):
+        uniform_pressure(a, (0, 1, 0), blocks=[0, 5])
+    with pytest.raises(ValueError, match=r"block index 1.5 out of range"):
+        point_load(a, 1.5, (0, 0, 0), (1, 0, 0))
+    with pytest.raises(ValueError, match=r"^force must be finite"):
+        point_load(a, 0, (0, 0, 0), (np.nan, 0, 0))

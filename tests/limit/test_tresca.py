@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from limit.errors import LimitAnalysisError
+from limit.errors import DeadLoadInfeasibleError, NoMechanismError, NumericalFailureError
 from limit.tresca import (
     TrescaSettings,
     _accept,
@@ -77,7 +77,7 @@ def test_brick_wall_shear_capacity_is_the_tresca_threshold():
     wall = brick_wall_packing(n_courses=4, bricks_per_course=3, brick_length=0.2, brick_height=0.1)
     ok = solve_tresca(wall, uniform_stress_traction(wall, [[-1.0, 0.9], [0.9, -1.0]]), s)
     assert np.all(np.abs(ok.shear_stress) <= s * (1 + 1e-6))
-    with pytest.raises(LimitAnalysisError, match="unbounded"):
+    with pytest.raises(DeadLoadInfeasibleError, match="unbounded"):
         solve_tresca(wall, uniform_stress_traction(wall, [[-1.0, 1.1], [1.1, -1.0]]), s)
 
 
@@ -85,7 +85,7 @@ def test_brick_wall_shear_capacity_is_the_tresca_threshold():
 def test_tensile_load_raises(solver):
     packing = verification_packing("four-cells")
     traction = uniform_stress_traction(packing, np.eye(2))
-    with pytest.raises(LimitAnalysisError, match="unbounded"):
+    with pytest.raises(DeadLoadInfeasibleError, match="unbounded"):
         solve_tresca(packing, traction, S_TRESCA, TrescaSettings(solver=solver))
 
 
@@ -96,7 +96,13 @@ def test_status_map():
     with pytest.warns(RuntimeWarning, match="optimal_inaccurate"):
         assert _accept(_Fake(), "x", "") is True
     _Fake.status = "infeasible"
-    with pytest.raises(LimitAnalysisError, match="infeasible"):
+    with pytest.raises(DeadLoadInfeasibleError, match="infeasible"):
+        _accept(_Fake(), "x", "")
+    _Fake.status = "unbounded"
+    with pytest.raises(NoMechanismError, match="unbounded"):
+        _accept(_Fake(), "x", "", unbounded=NoMechanismError)
+    _Fake.status = "solver_error"
+    with pytest.raises(NumericalFailureError, match="solver_error"):
         _accept(_Fake(), "x", "")
 
 
@@ -158,3 +164,23 @@ def test_brick_wall_shear_multiplier_closed_form(solver):
         TrescaSettings(solver=solver),
     )
     np.testing.assert_allclose(res.load_multiplier, s, rtol=1e-7)
+
+
+@pytest.mark.parametrize("solver", ["HIGHS", "CLARABEL"])
+def test_multiplier_outcomes_by_type(solver):
+    # a pure pressure as live load never fails a jammed packing (no mechanism), and a shear above
+    # the Tresca threshold as dead load is not carried at all (falls by itself), whether the live
+    # load cannot help (infeasible) or only its reverse could (alpha* = 0.7 - 1 < 0): told apart
+    # by type, never a negative multiplier
+    from limit.tresca import max_load_multiplier
+
+    s = 0.7
+    wall = brick_wall_packing(n_courses=5, bricks_per_course=3, brick_length=0.2, brick_height=0.1)
+    pressure = uniform_stress_traction(wall, -np.eye(2))
+    shear = uniform_stress_traction(wall, [[0.0, 1.0], [1.0, 0.0]])
+    with pytest.raises(NoMechanismError):
+        max_load_multiplier(wall, pressure, pressure, s, TrescaSettings(solver=solver))
+    with pytest.raises(DeadLoadInfeasibleError):
+        max_load_multiplier(wall, pressure + shear, pressure, s, TrescaSettings(solver=solver))
+    with pytest.raises(DeadLoadInfeasibleError, match="reversed"):
+        max_load_multiplier(wall, pressure + shear, shear, s, TrescaSettings(solver=solver))

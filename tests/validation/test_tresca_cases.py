@@ -1,6 +1,7 @@
 """Smoke test of the seed-003 cases in quick mode: the min-energy rows meet their closed forms."""
 
 import validation.cases.tresca as tresca
+from validation.report import staged
 
 
 def _check(rows):
@@ -19,8 +20,9 @@ def test_tresca_verification_quick():
     assert notes
 
 
-def test_tresca_reconstruction_quick(tmp_path, monkeypatch):
-    monkeypatch.setattr(tresca, "FIELDS_NPZ", tmp_path / "fields.npz")
-    rows, _ = tresca.run_reconstruction(quick=True)
+def test_tresca_reconstruction_quick(tmp_path):
+    with staged("tresca-reconstruction", tmp_path):
+        rows, _ = tresca.run_reconstruction(quick=True)
+        assert not (tmp_path / tresca.FIELDS_NPZ).exists()  # staged until the case ends
     _check(rows)
-    assert (tmp_path / "fields.npz").exists()
+    assert (tmp_path / tresca.FIELDS_NPZ).exists()

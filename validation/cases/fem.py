@@ -40,7 +40,7 @@ from fem_check.loads import (
 from fem_check.mesh import MeshSettings, mesh_polyhedra
 from fem_check.recovery import cut_resultant, recover_nodal_stress, stress_at_corners, summarise
 from fem_check.stress_output import stress_field, write_vtu
-from validation.report import RESULTS_DIR, Row
+from validation.report import RESULTS_DIR, Row, output_dir
 
 K_N_SEED_000 = 2.25 * GPA / MM  # k_n^def of the 5 x 5 panels, seed 000 Sec. 5.1.2 [Pa/m]
 M_5X5, L_5X5 = 6, 50.0 * MM  # interfaces across a row of the 5 x 5 panel and its length
@@ -550,7 +550,7 @@ def run_tis_stress(quick: bool):
     summaries = [summarise(s, nd) for s, nd in zip(sols, nodal, strict=True)]
     t_recover = time.perf_counter() - t0
     field = stress_field(sols, nodal=nodal)
-    vtu = write_vtu(RESULTS_DIR / "fem-tis-stress.vtu", field)
+    vtu = write_vtu(output_dir() / "fem-tis-stress.vtu", field)
 
     free = [r["block"] for r in records if not r["supported"]]
     res = np.array([s.equilibrium.rel for s in sols])
@@ -702,13 +702,14 @@ def run_tis_stress(quick: bool):
 def run_masonry_stress(quick: bool, path: Path | None = None, out_dir: Path | None = None):
     """Recovered stresses of a masonry wall at collapse (from the masonry DEM state).
 
-    ``path`` and ``out_dir`` default to ``validation/results``; tests point them elsewhere.
+    ``path`` defaults to ``validation/results`` (the masonry case's output), ``out_dir`` to the
+    case's staging directory; tests point them elsewhere.
     """
 
     from dem.scene import Scene
 
     path = RESULTS_DIR / "masonry-collapse-state.npz" if path is None else Path(path)
-    out_dir = RESULTS_DIR if out_dir is None else Path(out_dir)
+    out_dir = output_dir() if out_dir is None else Path(out_dir)
     if not path.exists():
         notes = (
             f"**`validation/results/{path.name}` is missing**: the masonry DEM (dem.static) has "

@@ -36,10 +36,11 @@ from dem.interface_strength import (
     torsion_strength_with_bending_closed_form,
     twist_centre_resultants,
 )
-from validation.report import RESULTS_DIR, Row
+from validation.report import Row, output_dir
 
 CASE = "interface-strength"
-CURVES_FILE = RESULTS_DIR / f"{CASE}.npz"
+CURVES_NAME = f"{CASE}.npz"
+"""Curves for the figures, written beside the case's tables (through its staging directory)."""
 
 # seed 001 Sec. 2.1: b = 0.3 m, s = 0.2 m, a = 0.2 m, gamma = 20 kN/m^3 -> N = -240 N
 L1, L2 = 0.3, 0.2  # [m]
@@ -397,8 +398,9 @@ def run(quick: bool) -> tuple[list[Row], str]:
     rows += _alpha_rows(curves, quick)
     rows += _bending_rows(curves, quick)
     rows += _tensile_rows(curves, quick)
-    CURVES_FILE.parent.mkdir(parents=True, exist_ok=True)
-    np.savez_compressed(CURVES_FILE, **{k: np.asarray(v, dtype=float) for k, v in curves.items()})
+    curves_file = output_dir() / CURVES_NAME
+    curves_file.parent.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(curves_file, **{k: np.asarray(v, dtype=float) for k, v in curves.items()})
     return rows, NOTES
 
 

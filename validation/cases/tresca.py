@@ -12,7 +12,6 @@ Stresses are in [Pa] with the paper's unit data: imposed stress -1 Pa, Tresca th
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -31,7 +30,7 @@ from limit.voronoi_packing import (
     verification_packing,
     voronoi_packing,
 )
-from validation.report import RESULTS_DIR, Row
+from validation.report import Row, output_dir
 
 PRESSURE = 1.0  # imposed compression [Pa] (seed 003 Sec. 4.3, 4.5: sigma = -I on the boundary)
 S_VERIF = 10.0  # Tresca threshold of the compression tests [Pa]
@@ -40,7 +39,7 @@ TAU_WALL = 0.5  # imposed shear of the brick wall [Pa]
 WALL = {"n_courses": 6, "bricks_per_course": 4, "brick_length": 0.2, "brick_height": 0.1}
 HOM_SEED = 136985  # seed of numpy.random.default_rng (the paper's seed, another generator)
 HOM_CELLS = 60
-FIELDS_NPZ = RESULTS_DIR / "tresca_fields.npz"
+FIELDS_NPZ = "tresca_fields.npz"
 SRC_CLOSED = "closed form"
 
 _VARIANTS = (
@@ -362,8 +361,9 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
                             time.perf_counter() - start, None, "", rec.wall_s,
                             {"n_cells": n_cells, "n_triangles": len(rec.tri_area)}))
 
-    FIELDS_NPZ.parent.mkdir(parents=True, exist_ok=True)
-    np.savez_compressed(FIELDS_NPZ, **npz)
+    fields = output_dir() / FIELDS_NPZ
+    fields.parent.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(fields, **npz)
     notes = (
         "Row-wise RT0 on each cell triangulated from its centre (Voronoi seed; brick centroid), "
         "boundary fluxes from the LP edge forces and the Neumann data, least-squares "
@@ -377,7 +377,7 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
         "(~2e-10) but only to ~8e-5 on five cells, whose contact graph has a self-stress "
         "(the paper's solver choice among admissible forces is not reproducible); the "
         "min-energy rows reach it to round-off. "
-        f"Fields for the figures: {Path(FIELDS_NPZ).name}."
+        f"Fields for the figures: {FIELDS_NPZ}."
     )
     return rows, notes
 

@@ -1,0 +1,410 @@
+"""Scenes from the files users have: mesh files of convex cells, multi-body surfaces, TOML.
+
+- A volume mesh read with meshio (gmsh ``.msh``, ``.vtu``, ``.vtk``, ``.xdmf``, ...): one block
+  per 3D cell (tetrahedra, hexahedra, wedges, pyramids or VTK polyhedra). Cells must be linear.
+- Surfaces of convex bodies (OBJ, STL, PLY, OFF through meshio), one file or a folder of them:
+  one block per connected component of the surface.
+- The project's scene JSON (:meth:`dem.Scene.from_json`).
+
+A cell or body is accepted only if it is convex: its corners are exactly the corners of their
+convex hull, and each of its faces lies in one plane of that hull (a warped or re-entrant face
+is refused, naming the cell). Material, supports and loads come from a :class:`SceneSpec`,
+read from a small TOML file (see :meth:`SceneSpec.from_toml`) or built by the command line.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import tomllib
+from collections.abc import Sequence
+from dataclasses import dataclass, fields, replace
+from pathlib import Path
+
+import numpy as np
+
+from dem.geometry.polyhedron import ConvexBlock, convex_block
+from dem.scene import Assembly, Loads, Scene, Supports, point_load, proportional_to_weight
+from dem.units import G
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "CELL_FACES",
+    "SURFACE_SUFFIXES",
+    "SceneSpec",
+    "blocks_from_mesh",
+    "blocks_from_surfaces",
+    "checked_block",
+    "read_scene",
+]
+
+CELL_FACES: dict[str, tuple[tuple[int, ...], ...]] = {
+    "tetra": ((0, 1, 2), (0, 1, 3), (1, 2, 3), (0, 2, 3)),
+    "pyramid": ((0, 1, 2, 3), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)),
+    "wedge": ((0, 1, 2), (3, 4, 5), (0, 1, 4, 3), (1, 2, 5, 4), (2, 0, 3, 5)),
+    "hexahedron": (
+        (0, 1, 2, 3),
+        (4, 5, 6, 7),
+        (0, 1, 5, 4),
+        (1, 2, 6, 5),
+        (2, 3, 7, 6),
+        (3, 0, 4, 7),
+    ),
+}
+"""Faces of the linear 3D cells in meshio's (VTK's) node order; gmsh's linear cells map to it."""
+
+SURFACE_SUFFIXES = (".obj", ".stl", ".ply", ".off")
+PLANE_TOL = 1e-7
+"""Largest distance of a face corner from its hull plane, relative to the block size [-]."""
+AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
+
+
+def checked_block(points: np.ndarray, faces: Sequence[Sequence[int]], label: str) -> ConvexBlock:
+    """The convex block of one cell or body, or a ValueError naming it.
+
+    Parameters
+    ----------
+    points : (k, 3) float
+        Its corners [m].
+    faces : sequence of index sequences
+        Its faces (indices into ``points``), in any orientation.
+    label : str
+        Name used in the error, e.g. ``"cell 12 (hexahedron)"``.
+    """
+    try:
+        block = convex_block(points, exact=True)
+    except ValueError as exc:
+        raise ValueError(f"{label} is not a convex block: {exc}") from exc
+    tol = PLANE_TOL * block.size
+    for face in faces:
+        dist = np.abs(points[list(face)] @ block.normals.T - block.offsets)  # (corners, planes)
+        if not np.any(np.all(dist <= tol, axis=0)):
+            raise ValueError(
+                f"{label} is not convex: its face with corners {list(face)} does not lie in a "
+                "face plane of its convex hull (a warped or re-entrant face); split the cell "
+                "into convex cells or flatten the face."
+            )
+    return block
+
+
+def _cells(mesh) -> list[tuple[str, np.ndarray, tuple]]:
+    """(type, corner ids, faces in local ids) of every 3D cell of a meshio mesh."""
+    out = []
+    for cb in mesh.cells:
+        if cb.type in CELL_FACES:
+            out += [(cb.type, np.asarray(ids), CELL_FACES[cb.type]) for ids in cb.data]
+        elif cb.type.startswith("polyhedron"):
+            for cell in cb.data:
+                ids = np.unique(np.concatenate([np.asarray(f) for f in cell]))
+                local = {g: i for i, g in enumerate(ids.tolist())}
+                faces = tuple(tuple(local[g] for g in np.asarray(f).tolist()) for f in cell)
+                out.append((cb.type, ids, faces))
+        elif cb.dim == 3:
+            raise ValueError(
+                f"cell type {cb.type!r} is not supported (only linear tetra, pyramid, wedge, "
+                "hexahedron and polyhedron cells; export a linear mesh)"
+            )
+    return out
+
+
+def _read(path: str | Path):
+    """A meshio mesh, or a ValueError saying why the file cannot be read."""
+    import meshio
+
+    try:
+        with np.errstate(over="ignore"):  # meshio's binary-STL size test overflows on ASCII
+            return meshio.read(path)
+    except meshio.ReadError as exc:
+        raise ValueError(f"{path}: meshio cannot read it ({exc})") from exc
+
+
+def blocks_from_mesh(path: str | Path) -> list[ConvexBlock]:
+    """One convex block per 3D cell of a volume mesh (any format meshio reads).
+
+    Raises
+    ------
+    ValueError
+        No 3D cell, a higher-order cell type, or a non-convex cell (named by its index over
+        all 3D cells, its type and its corners).
+    """
+    mesh = _read(path)
+    cells = _cells(mesh)
+    if not cells:
+        raise ValueError(f"{path}: no 3D cells (tetra, wedge, hexahedron, ...) to make blocks of")
+    points = np.asarray(mesh.points, dtype=float)
+    if points.shape[1] != 3:
+        raise ValueError(f"{path}: points must be 3D, got shape {points.shape}")
+    return [
+        checked_block(points[ids], faces, f"cell {i} ({kind}, nodes {ids.tolist()})")
+        for i, (kind, ids, faces) in enumerate(cells)
+    ]
+
+
+def _merged(points: np.ndarray, faces: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Merge points closer than ``PLANE_TOL`` times the extent (STL repeats every corner)."""
+    scale = float(np.linalg.norm(np.ptp(points, axis=0))) or 1.0
+    keys = np.round(points / (PLANE_TOL * scale * 10)).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    return points[first], [inverse[f] for f in faces]
+
+
+def _bodies(path: Path) -> list[tuple[np.ndarray, list[np.ndarray]]]:
+    """Connected components (points, faces) of the surface in one file."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    mesh = _read(path)
+    faces = [np.asarray(f) for cb in mesh.cells if cb.dim == 2 for f in cb.data]
+    if not faces:
+        raise ValueError(f"{path}: no surface polygons to make bodies of")
+    points, faces = _merged(np.asarray(mesh.points, dtype=float), faces)
+    rows = np.concatenate([np.repeat(f[0], len(f)) for f in faces])
+    cols = np.concatenate(faces)
+    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(points),) * 2)
+    n, label = connected_components(graph, directed=False)
+    used = np.zeros(len(points), dtype=bool)
+    used[cols] = True
+    out = []
+    for c in sorted(set(label[used].tolist())):
+        ids = np.flatnonzero((label == c) & used)
+        local = np.full(len(points), -1)
+        local[ids] = np.arange(len(ids))
+        out.append((points[ids], [local[f] for f in faces if label[f[0]] == c]))
+    return out
+
+
+def blocks_from_surfaces(path: str | Path) -> list[ConvexBlock]:
+    """One convex block per closed body in a surface file, or in every such file of a folder.
+
+    Files of a folder are read in name order; the bodies of a file in the order of their
+    first point. A body is named in errors by its file and its index in that file.
+    """
+    path = Path(path)
+    files = (
+        sorted(p for p in path.iterdir() if p.suffix.lower() in SURFACE_SUFFIXES)
+        if path.is_dir()
+        else [path]
+    )
+    if not files:
+        raise ValueError(f"{path}: no {'/'.join(SURFACE_SUFFIXES)} files in the folder")
+    blocks = []
+    for f in files:
+        for k, (pts, faces) in enumerate(_bodies(f)):
+            blocks.append(checked_block(pts, faces, f"body {k} of {f.name}"))
+    return blocks
+
+
+@dataclass(frozen=True)
+class SceneSpec:
+    """Material, supports and loads of a scene read from a mesh or surface file (SI units).
+
+    Attributes
+    ----------
+    density : float or None
+        [kg/m^3]; required for mesh and surface files.
+    mu : float or None
+        Friction coefficient [-].
+    fixed : tuple of int
+        Blocks held fixed.
+    fixed_below : float or None
+        Also fix every block whose centroid lies below this height z [m].
+    fixed_boxes : tuple of (6,) tuples
+        Also fix every block whose centroid lies in a box ``(x0, y0, z0, x1, y1, z1)`` [m].
+    gravity : (3,) tuple
+        [m/s^2].
+    live : (3,) tuple or None
+        Live load: the weight of every free block along this direction, scaled by lambda; None
+        keeps the live load of the file (none for meshes).
+    point_loads : tuple of dict
+        ``{"block": i, "point": (x, y, z), "force": (fx, fy, fz), "kind": "dead" | "live"}``
+        [m, N].
+    name : str or None
+    """
+
+    density: float | None = None
+    mu: float | None = None
+    fixed: tuple[int, ...] = ()
+    fixed_below: float | None = None
+    fixed_boxes: tuple[tuple[float, ...], ...] = ()
+    gravity: tuple[float, float, float] = (0.0, 0.0, -G)
+    live: tuple[float, float, float] | None = None
+    point_loads: tuple[dict, ...] = ()
+    name: str | None = None
+
+    def __post_init__(self):
+        if self.density is not None and not (math.isfinite(self.density) and self.density > 0):
+            raise ValueError(f"density must be finite and positive [kg/m^3], got {self.density}")
+        if self.mu is not None and not (math.isfinite(self.mu) and self.mu >= 0):
+            raise ValueError(f"mu must be finite and >= 0, got {self.mu}")
+        for box in self.fixed_boxes:
+            if len(box) != 6 or any(box[k] > box[k + 3] for k in range(3)):
+                raise ValueError(f"fixed_boxes: need (x0, y0, z0, x1, y1, z1), x0 <= x1: {box}")
+        if len(self.gravity) != 3:
+            raise ValueError(f"gravity must be a 3-vector [m/s^2], got {self.gravity}")
+        if self.live is not None and (len(self.live) != 3 or not any(self.live)):
+            raise ValueError(f"live must be a non-zero 3-vector or an axis, got {self.live}")
+        for load in self.point_loads:
+            missing = {"block", "point", "force"} - set(load)
+            if missing or load.get("kind", "dead") not in ("dead", "live"):
+                raise ValueError(
+                    f"point load {load} needs block, point, force and kind 'dead' or 'live'"
+                )
+
+    def merged(self, other: SceneSpec) -> SceneSpec:
+        """A copy with the fields that ``other`` sets (differs from the defaults) replaced."""
+        default = SceneSpec()
+        changed = {
+            f.name: getattr(other, f.name)
+            for f in fields(self)
+            if getattr(other, f.name) != getattr(default, f.name)
+        }
+        return replace(self, **changed)
+
+    @staticmethod
+    def direction(value: str | Sequence[float]) -> tuple[float, float, float]:
+        """A load direction from ``"x"``, ``"-y"``, ... or a 3-vector."""
+        if isinstance(value, str):
+            sign = -1.0 if value.strip().startswith("-") else 1.0
+            axis = value.strip().lstrip("+-").lower()
+            if axis not in AXES:
+                raise ValueError(f"load direction must be x, y, z, -x, ... or a vector: {value!r}")
+            return tuple(sign * c for c in AXES[axis])
+        return tuple(float(c) for c in value)
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> SceneSpec:
+        """Read a spec from TOML.
+
+        Example::
+
+            name = "barn wall"
+            [material]
+            density = 2000.0        # kg/m^3
+            mu = 0.6
+            [supports]
+            fixed = [0]             # block ids
+            fixed_below = 0.05      # and every block with its centroid below z = 0.05 m
+            fixed_boxes = [[-1, -1, -1, 1, 1, 0]]
+            [loads]
+            gravity = [0.0, 0.0, -9.81]
+            live = "x"              # or [1.0, 0.0, 0.0]
+            [[loads.point]]
+            block = 3
+            point = [0.0, 0.0, 1.2]
+            force = [0.0, 0.0, -5000.0]
+            kind = "dead"
+        """
+        data = tomllib.loads(Path(path).read_text())
+        known = {"name", "material", "supports", "loads"}
+        if set(data) - known:
+            raise ValueError(f"{path}: unknown tables {sorted(set(data) - known)}; use {known}")
+        mat, sup, loads = data.get("material", {}), data.get("supports", {}), data.get("loads", {})
+        live = loads.get("live")
+        return cls(
+            density=mat.get("density"),
+            mu=mat.get("mu"),
+            fixed=tuple(int(i) for i in sup.get("fixed", ())),
+            fixed_below=sup.get("fixed_below"),
+            fixed_boxes=tuple(tuple(float(c) for c in b) for b in sup.get("fixed_boxes", ())),
+            gravity=tuple(loads.get("gravity", (0.0, 0.0, -G))),
+            live=None if live is None else cls.direction(live),
+            point_loads=tuple(loads.get("point", ())),
+            name=data.get("name"),
+        )
+
+    def fixed_mask(self, assembly: Assembly) -> np.ndarray:
+        """(n_blocks,) bool: the blocks this spec fixes."""
+        n = assembly.n_blocks
+        ids = np.asarray(self.fixed, dtype=np.int64)
+        if ids.size and (ids.min() < 0 or ids.max() >= n):
+            raise ValueError(f"fixed block ids must lie in 0..{n - 1}, got {list(self.fixed)}")
+        mask = np.zeros(n, dtype=bool)
+        mask[ids] = True
+        c = assembly.centroid
+        if self.fixed_below is not None:
+            mask |= c[:, 2] < self.fixed_below
+        for box in self.fixed_boxes:
+            lo, hi = np.array(box[:3]), np.array(box[3:])
+            mask |= np.all((c >= lo) & (c <= hi), axis=1)
+        return mask
+
+    def apply(self, scene: Scene) -> Scene:
+        """The scene with this spec's supports and loads added (the file's ones are kept)."""
+        a = scene.assembly
+        if self.mu is not None:
+            a = Assembly(a.blocks, a.density, self.mu)
+        fixed = scene.supports.fixed | self.fixed_mask(a)
+        supports = Supports(fixed, scene.supports.restrained & ~fixed[:, None])
+        dead, live = scene.loads.dead_wrench.copy(), scene.loads.live_wrench.copy()
+        if self.live is not None:
+            live = proportional_to_weight(a, self.live, g=float(np.linalg.norm(self.gravity)))
+            live[fixed] = 0.0
+        for load in self.point_loads:
+            w = point_load(a, int(load["block"]), load["point"], load["force"])
+            if load.get("kind", "dead") == "live":
+                live = live + w
+            else:
+                dead = dead + w
+        loads = Loads(np.asarray(self.gravity, dtype=float), dead, live)
+        return Scene(a, supports, loads, self.name or scene.name, scene.meta)
+
+
+def read_scene(
+    path: str | Path, spec: SceneSpec | None = None, toml: str | Path | None = None
+) -> Scene:
+    """A scene from a JSON scene, a volume mesh, or surfaces of convex bodies.
+
+    Parameters
+    ----------
+    path : path
+        ``*.json`` (the project's scene), a surface file or folder (``*.obj``, ``*.stl``,
+        ...), or any volume mesh meshio reads (``*.msh``, ``*.vtu``, ...).
+    spec : SceneSpec, optional
+        Overrides on top of the TOML (e.g. from command-line options).
+    toml : path, optional
+        Supports and loads; default ``<path without suffix>.toml`` if it exists.
+
+    Raises
+    ------
+    ValueError
+        A non-convex cell or body (named), a mesh without density, bad TOML content.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no such scene file or folder")
+    toml = path.with_suffix(".toml") if toml is None else Path(toml)
+    base = SceneSpec.from_toml(toml) if toml.is_file() else SceneSpec()
+    if toml.is_file():
+        logger.info("supports and loads from %s", toml)
+    spec = base if spec is None else base.merged(spec)
+    if path.suffix.lower() == ".json":
+        scene = Scene.from_json(path)
+        if spec.density is not None:
+            scene = Scene(
+                Assembly(scene.assembly.blocks, spec.density, scene.assembly.mu),
+                scene.supports,
+                scene.loads,
+                scene.name,
+                scene.meta,
+            )
+        return spec.apply(scene)
+    is_surface = path.is_dir() or path.suffix.lower() in SURFACE_SUFFIXES
+    blocks = blocks_from_surfaces(path) if is_surface else blocks_from_mesh(path)
+    if spec.density is None:
+        raise ValueError(
+            f"{path}: a mesh has no density; give it in the TOML ([material] density) or on the "
+            "command line (--density) [kg/m^3]"
+        )
+    assembly = Assembly(tuple(blocks), spec.density, spec.mu)
+    n = assembly.n_blocks
+    zero = np.zeros((n, 6))
+    scene = Scene(
+        assembly,
+        Supports.none(n),
+        Loads(np.asarray(spec.gravity, dtype=float), zero, zero.copy()),
+        spec.name or path.stem,
+        {"source": str(path)},
+    )
+    return spec.apply(scene)

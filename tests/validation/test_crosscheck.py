@@ -1,0 +1,193 @@
+"""The cross-check on small scenes: its numbers against closed forms, its verdict against
+wrong inputs, its files and pictures."""
+
+import json
+import math
+
+import matplotlib.image
+import numpy as np
+import pytest
+
+from dem.scene import point_load
+from dem.scenes import stack
+from validation.crosscheck import (
+    Context,
+    CrosscheckSettings,
+    StepResult,
+    crosscheck,
+)
+from validation.crosscheck.run import weight_direction
+from validation.crosscheck.verdict import verdict
+
+
+@pytest.fixture(scope="module")
+def pillar_result(tmp_path_factory):
+    """Two stacked blocks b = 0.4, h = 0.5 each: overturning at b / (2 h) = 0.4 < mu."""
+    out = tmp_path_factory.mktemp("crosscheck")
+    scene = stack(2, 0.4, 0.3, 0.5, mu=0.6)
+    return crosscheck(scene, CrosscheckSettings.quick(), out), out
+
+
+def test_every_method_finds_the_overturning_load(pillar_result):
+    result, _ = pillar_result
+    expected = 0.4 / (2 * 0.5)  # stack closed form: b / (n h)
+    for name in ("limit-vertex", "limit-resultant"):
+        np.testing.assert_allclose(result.step(name).values["upper"], expected, rtol=1e-6)
+    for name in ("dem-fibre", "dem-resultant"):
+        step = result.step(name)
+        assert step.values["collapsed"]
+        np.testing.assert_allclose(step.values["lambda_max"], expected, rtol=1e-3)
+    assert result.step("dead-load").values["stands"] is True
+    fem = result.step("fem").values
+    assert fem["n_solved"] == 2 and fem["max_residual"] < 1e-6
+    # a rocking block presses on its toe: compression exceeds tension somewhere
+    assert fem["max_compression_Pa"] < 0 < fem["max_tension_Pa"]
+    others = [c for c in result.checks if c.step != "explicit"]
+    assert {c.status for c in others} <= {"pass", "n/a"}, [c for c in others if c.status == "fail"]
+
+
+def test_explicit_bracket_of_the_stack(pillar_result):
+    """A state at rest is statically admissible: lambda_stable <= b / (n h) = 0.4."""
+    result, _ = pillar_result
+    v = result.step("explicit").values
+    assert v["collapsed"]
+    assert v["lambda_stable"] <= 0.4 < 1.25 * 0.4
+    assert v["lambda_stable"] < v["lambda_moving"] <= 1.25 * 0.4
+
+
+def test_every_step_records_its_time_and_settings(pillar_result):
+    result, _ = pillar_result
+    for step in result.steps:
+        assert step.wall_s >= 0
+        if step.status == "ok":
+            assert step.settings, step.name
+    assert result.step("dem-fibre").settings["interface_model"] == "fibre"
+    assert result.step("limit-resultant").settings["interface_model"] == "resultant"
+
+
+def test_report_files_and_pictures(pillar_result):
+    result, out = pillar_result
+    data = json.loads((out / "report.json").read_text())
+    assert data["consistent"] is result.consistent
+    assert [s["name"] for s in data["steps"]] == [s.name for s in result.steps]
+    md = (out / "report.md").read_text()
+    assert "## Verdict" in md and "DEM fibre <= upper (vertex)" in md
+    # the summary reads the live load as an acceleration: each block's weight along +x
+    assert "between 0 and 0.4 (proven bounds)" in md and "seismic coefficient" in md
+    for key in ("scene", "interfaces", "mechanism", "stress"):
+        assert (out / f"{key}.vtu").stat().st_size > 0
+    for key in ("pushover", "mechanism", "interface_states", "stress"):
+        image = matplotlib.image.imread(out / f"{key}.png")
+        assert image.shape[0] > 100 and image.shape[1] > 100, key
+        assert np.ptp(image[..., :3]) > 0.2, f"{key}.png is blank"
+
+
+def test_a_scene_without_live_load_skips_the_collapse_analysis(two_block_stack):
+    settings = CrosscheckSettings.quick(methods=("dead", "limit", "dem", "fem"), pictures=False)
+    result = crosscheck(two_block_stack, settings)
+    assert result.step("dead-load").values["stands"] is True
+    for name in ("limit-vertex", "dem-fibre", "dem-resultant"):
+        assert result.step(name).status == "skipped"
+        assert "no live load" in result.step(name).reason
+    assert result.step("fem").status == "skipped"
+
+
+def test_a_scene_that_falls_is_reported_and_not_pushed(tmp_path):
+    # the top block overhangs by more than half its width: it topples under its own weight
+    scene = stack(2, 0.4, 0.3, 0.5, offsets=[0.0, 0.25], mu=0.6)
+    result = crosscheck(scene, CrosscheckSettings.quick(methods=("dead", "dem"), pictures=False))
+    assert result.step("dead-load").values["stands"] is False
+    assert result.step("dem-fibre").status == "skipped"
+    assert not result.consistent
+    assert result.checks[0].status == "fail"
+
+
+def _ctx(**values) -> Context:
+    ctx = Context(CrosscheckSettings())
+    for name, v in values.items():
+        ctx.results[name] = StepResult(name, name, "ok", values=v)
+    return ctx
+
+
+LIMIT = {
+    "upper": 0.5,
+    "lower": 0.1,
+    "reduced_mu": 0.4,
+    "iterative": 0.45,
+    "iterative_admissible": True,
+    "lower_note": "",
+}
+
+
+def _status(checks, name):
+    return next(c.status for c in checks if c.name == name)
+
+
+def test_verdict_rejects_inconsistent_results():
+    dem = {"lambda_max": 0.45, "termination": "plateau", "collapsed": True}
+    good = verdict(_ctx(**{"limit-vertex": LIMIT, "dem-fibre": dem}))
+    # everything passes but the dead-load line, which did not run here
+    assert [c.name for c in good if c.status != "pass"] == ["stands under its dead load"]
+    # a DEM multiplier above the upper bound, a lower bound above the upper bound, an
+    # estimate outside the bounds and a run that ended at max_steps must all fail
+    high = {**dem, "lambda_max": 0.6}
+    assert (
+        _status(
+            verdict(_ctx(**{"limit-vertex": LIMIT, "dem-fibre": high})),
+            "DEM fibre <= upper (vertex)",
+        )
+        == "fail"
+    )
+    crossed = {**LIMIT, "lower": 0.7}
+    assert _status(verdict(_ctx(**{"limit-vertex": crossed})), "lower <= upper (vertex)") == "fail"
+    low = {**LIMIT, "reduced_mu": 0.05}
+    checks = verdict(_ctx(**{"limit-vertex": low}))
+    assert _status(checks, "estimate mu* within bounds (vertex)") == "fail"
+    stalled = {**dem, "termination": "max_steps", "collapsed": False}
+    checks = verdict(_ctx(**{"limit-vertex": LIMIT, "dem-fibre": stalled}))
+    assert _status(checks, "DEM fibre law collapsed") == "fail"
+
+
+def test_a_failed_method_is_a_failed_line():
+    ctx = _ctx(**{"limit-vertex": LIMIT})
+    ctx.results["dem-resultant"] = StepResult("dem-resultant", "", "failed", "no equilibrium")
+    (line,) = [c for c in verdict(ctx) if c.step == "dem-resultant"]
+    assert line.status == "fail" and line.detail == "no equilibrium"
+
+
+def test_verdict_explains_disagreeing_laws():
+    fib = {"lambda_max": 0.40, "termination": "plateau", "collapsed": True}
+    res = {"lambda_max": 0.08, "termination": "plateau", "collapsed": True}
+    ctx = _ctx(
+        **{
+            "limit-vertex": LIMIT,
+            "limit-resultant": {**LIMIT, "upper": 0.52},
+            "dem-fibre": fib,
+            "dem-resultant": res,
+        }
+    )
+    (check,) = [c for c in verdict(ctx) if c.name == "the two DEM laws agree"]
+    assert check.status == "fail"
+    assert "differ by 3.8 % only" in check.detail and "15% of its upper bound" in check.detail
+
+
+def test_unbounded_limit_and_no_dem_collapse_agree():
+    stalled = {"lambda_max": 70.0, "termination": "max_steps", "collapsed": False}
+    ctx = _ctx(**{"limit-vertex": {"upper": math.inf, "unbounded": True}, "dem-fibre": stalled})
+    checks = verdict(ctx)
+    assert _status(checks, "DEM fibre law collapsed") == "pass"
+    assert _status(checks, "finite upper bound (vertex)") == "n/a"
+
+
+def test_weight_direction_tells_a_weight_load_from_others():
+    scene = stack(2, 0.4, 0.3, 0.5, live_direction=(0.0, -2.0, 0.0))
+    np.testing.assert_allclose(weight_direction(scene), [0.0, -1.0, 0.0])
+    point = stack(2, 0.4, 0.3, 0.5, live_direction=None).with_loads(
+        live=point_load(scene.assembly, 1, (0.0, 0.0, 1.0), (100.0, 0.0, 0.0))
+    )
+    assert weight_direction(point) is None
+
+
+def test_settings_refuse_unknown_methods():
+    with pytest.raises(ValueError, match="unknown methods"):
+        CrosscheckSettings(methods=("dem", "magic"))

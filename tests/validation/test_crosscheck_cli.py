@@ -1,0 +1,126 @@
+"""The command lines: ``python -m validation crosscheck`` and the quiet ``validation all``."""
+
+import logging
+import os
+import subprocess
+import sys
+import warnings
+
+import matplotlib.image
+import numpy as np
+
+from dem.scenes import voussoir_arch
+from validation.__main__ import main
+from validation.crosscheck.cli import main as console_main
+from validation.main_job import CaseSummary, run_all
+from validation.report import Row
+
+
+def test_crosscheck_command_line(tmp_path, capfd):
+    scene = voussoir_arch(2.0, 0.2, 12, live_direction=None)
+    path = tmp_path / "arch.json"
+    scene.to_json(path)
+    out = tmp_path / "report"
+    args = ["--live", "x", "--out", str(out), "--quick", "--methods", "dead,limit,dem,fem"]
+    code = main(["crosscheck", str(path), *args])
+    console = capfd.readouterr().out
+    assert code == 0, console
+    # one progress line per method, then the summary table and the verdict
+    for step in ("dead-load", "limit-vertex", "dem-fibre", "dem-resultant", "fem"):
+        assert f"{step}: " in console
+    assert "verdict: consistent" in console and "step" in console and "wall [s]" in console
+    assert "Warning" not in console and "optimal_inaccurate" not in console
+    for name in ("pushover", "mechanism", "interface_states", "stress"):
+        image = matplotlib.image.imread(out / f"{name}.png")
+        assert image.ndim == 3 and min(image.shape[:2]) > 100
+        assert np.ptp(image[..., :3]) > 0.2, f"{name}.png is blank"
+    assert (out / "report.md").read_text().count("| pass |") >= 5
+    assert (out / "crosscheck.log").exists()
+
+
+def test_crosscheck_console_script_refuses_bad_input(tmp_path, capfd):
+    missing = tmp_path / "cells.vtu"
+    assert console_main([str(missing), "--out", str(tmp_path / "o")]) == 2
+    assert "crosscheck:" in capfd.readouterr().err
+
+
+def test_console_script_is_declared():
+    text = open(os.path.join(os.path.dirname(__file__), "../../pyproject.toml")).read()
+    assert 'blockmech-crosscheck = "validation.crosscheck.cli:main"' in text
+
+
+def _noisy_case(name, quick):
+    os.write(1, b"HiGHS banner straight to fd 1\n")
+    os.write(2, b"numba build noise on fd 2\n")
+    print("a print from a case")
+    warnings.warn("a solver warning", UserWarning, stacklevel=1)
+    logging.getLogger("limit.solve").warning("solver status optimal_inaccurate")
+    if name == "broken":
+        raise RuntimeError("this case fails")
+    return [
+        Row("closed form", 1.01, 1.0, "closed form"),
+        Row("seed value", 0.8, 1.0, "seed 001 Table 1"),
+        Row("other", 0.5, 0.5, "another method"),
+    ]
+
+
+def test_quiet_main_job(tmp_path, capfd):
+    log = tmp_path / "validation.log"
+    summaries = run_all(["first", "broken"], _noisy_case, True, log)
+    console = capfd.readouterr()
+    lines = console.out.splitlines()
+    assert lines[1].startswith("[1/2] first ... ok, 3 rows")
+    assert lines[2].startswith("[2/2] broken ... FAILED (RuntimeError")
+    assert "worst numerical error" in console.out and "worst model error" in console.out
+    for noise in ("HiGHS", "numba", "a print", "solver warning", "optimal_inaccurate"):
+        assert noise not in console.out + console.err
+        assert noise in log.read_text()
+    assert "Traceback" in log.read_text()
+    first, broken = summaries
+    # numerical: |1.01 - 1| / 1 (closed form, other method); model: the seed table's 0.2
+    assert np.isclose(first.worst_numerical, 0.01) and np.isclose(first.worst_model, 0.2)
+    assert first.failed == "" and broken.failed == "RuntimeError"
+    # descriptors and streams are restored
+    print("after")
+    assert capfd.readouterr().out == "after\n"
+
+
+def test_case_summary_without_references():
+    s = CaseSummary.of("c", [Row("no reference", 3.0)], 1.0)
+    assert s.worst_numerical is None and s.worst_model is None and s.rows == 1
+
+
+def test_validation_all_is_quiet_end_to_end(tmp_path):
+    """The real entry point in a subprocess (descriptor-level noise), with a fake case that
+    solves a real limit-analysis problem and writes its files to a temporary folder."""
+    code = f"""
+import os, sys, warnings
+from pathlib import Path
+import validation.__main__ as m
+from dem.scenes import stack
+from limit import limit_analysis
+from validation.report import Row
+
+def case(quick):
+    os.write(1, b"solver banner on fd 1\\n")
+    warnings.warn("a warning", UserWarning, stacklevel=1)
+    lam = limit_analysis(stack(2, 0.4, 0.3, 0.5)).lam
+    return [Row("overturning of a stack", lam, 0.4, "closed form b / (n h)")]
+
+m.CASES = {{"stack": case}}
+m.RESULTS_DIR = Path({str(tmp_path)!r})
+m.write_results = lambda *a, **k: (Path("x.json"), Path("x.md"))
+sys.exit(m.main(["all", "--quick"]))
+"""
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    lines = done.stdout.strip().splitlines()
+    assert lines[1].startswith("[1/1] stack ... ok, 1 rows")
+    last = lines[-1].split()
+    assert last[0] == "stack" and last[-1] == "no" and float(last[2]) < 1e-6
+    assert done.stderr == "" and "banner" not in done.stdout
+    log = (tmp_path / "validation.log").read_text()
+    assert "solver banner on fd 1" in log and "a warning" in log

@@ -1,0 +1,173 @@
+"""Command line of the cross-check.
+
+``python -m validation crosscheck SCENE [--live x] [--out DIR] [--methods ...] [--quick]``, or
+the console script ``blockmech-crosscheck`` with the same arguments. The terminal shows a
+progress line per method (with a running clock on a terminal) and a summary table; solver
+output and warnings go to ``DIR/crosscheck.log``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import TextIO
+
+from validation.crosscheck.run import METHODS, CrosscheckResult, CrosscheckSettings, crosscheck
+from validation.crosscheck.steps import Step, StepResult
+from validation.quiet import quiet, table
+
+SUMMARY_KEYS = ("upper", "lambda_max", "lambda_stable", "stands", "max_tension_Pa")
+BAR = 20
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """The cross-check's arguments (shared by the subcommand and the console script)."""
+    parser.add_argument(
+        "scene", type=Path, help="scene JSON, volume mesh (.msh, .vtu, ...), OBJ/STL file or folder"
+    )
+    parser.add_argument(
+        "--live",
+        help="live load: every free block's weight along x, -x, y, "
+        "-y, z or -z (replaces the scene's live load)",
+    )
+    parser.add_argument("--out", type=Path, help="output folder (default crosscheck-SCENE)")
+    parser.add_argument(
+        "--methods",
+        default=",".join(METHODS),
+        help=f"comma-separated subset of {','.join(METHODS)}",
+    )
+    parser.add_argument("--quick", action="store_true", help="fewer iterations, coarser FEM")
+    parser.add_argument("--toml", type=Path, help="supports and loads (default SCENE.toml)")
+    parser.add_argument("--density", type=float, help="block density [kg/m^3]")
+    parser.add_argument("--mu", type=float, help="friction coefficient [-]")
+    parser.add_argument("--fixed", help="comma-separated ids of fixed blocks")
+    parser.add_argument(
+        "--fixed-below", type=float, help="fix every block whose centroid lies below this z [m]"
+    )
+    parser.add_argument("--no-pictures", action="store_true", help="write no PNG pictures")
+    return parser
+
+
+def load_scene(args: argparse.Namespace):
+    """The scene named on the command line, with the options' supports and loads."""
+    from dem.scene_io import SceneSpec, read_scene
+
+    spec = SceneSpec(
+        density=args.density,
+        mu=args.mu,
+        fixed=tuple(int(i) for i in args.fixed.split(",")) if args.fixed else (),
+        fixed_below=args.fixed_below,
+        live=SceneSpec.direction(args.live) if args.live else None,
+    )
+    return read_scene(args.scene, spec, args.toml)
+
+
+class Progress:
+    """Prints ``[k/n] step ...`` when a step starts and its outcome when it ends; on a
+    terminal a bar of the steps done and a running clock are redrawn every second."""
+
+    def __init__(self, console: TextIO, n_steps: int):
+        self.console, self.n, self.k = console, n_steps, 0
+        self.tty = console.isatty()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def _bar(self) -> str:
+        done = BAR * self.k // max(self.n, 1)
+        return f"[{'#' * done}{'.' * (BAR - done)}] {self.k}/{self.n}"
+
+    def _tick(self, step: Step, start: float):
+        while not self._stop.wait(1.0):
+            elapsed = time.perf_counter() - start
+            self.console.write(f"\r{self._bar()} {step.name}: {step.method} ... {elapsed:.0f} s")
+
+    def __call__(self, event: str, step: Step, result: StepResult | None):
+        if event == "start":
+            self.console.write(f"{self._bar()} {step.name}: {step.method} ... ")
+            if self.tty:
+                self._stop.clear()
+                self._thread = threading.Thread(
+                    target=self._tick, args=(step, time.perf_counter()), daemon=True
+                )
+                self._thread.start()
+            return
+        if self._thread is not None:
+            self._stop.set()
+            self._thread.join()
+            self._thread = None
+        self.k += 1
+        note = f" ({result.reason})" if result.reason and result.status != "ok" else ""
+        outcome = f"{result.status}, {result.wall_s:.1f} s{note}\n"
+        if self.tty:  # redraw the whole line with the bar advanced
+            self.console.write(f"\r{self._bar()} {step.name}: {outcome}")
+        else:
+            self.console.write(outcome)
+
+
+def _main_value(res: StepResult):
+    for key in SUMMARY_KEYS:
+        if key in res.values:
+            value = res.values[key]
+            return key, value / 1e6 if key.endswith("_Pa") else value
+    return "", None
+
+
+def summary(result: CrosscheckResult) -> str:
+    """Steps (status, main value, wall time), then the failed checks and the verdict."""
+    rows = []
+    for s in result.steps:
+        key, value = _main_value(s)
+        rows.append([s.name, s.status, key.replace("_Pa", " [MPa]"), value, round(s.wall_s, 2)])
+    lines = [table(("step", "status", "quantity", "value", "wall [s]"), rows), ""]
+    counts = {k: sum(c.status == k for c in result.checks) for k in ("pass", "fail", "n/a")}
+    for c in result.checks:
+        if c.status == "fail":
+            lines.append(f"FAILED: {c.name}: {c.detail}")
+    verdict = "consistent" if result.consistent else "INCONSISTENT"
+    lines.append(
+        f"verdict: {verdict} ({counts['pass']} pass, {counts['fail']} fail, "
+        f"{counts['n/a']} not applicable)"
+    )
+    if "report_md" in result.files:
+        lines.append(f"report: {result.files['report_md']}")
+    return "\n".join(lines)
+
+
+def settings_from(args: argparse.Namespace) -> CrosscheckSettings:
+    methods = tuple(m.strip() for m in args.methods.split(",") if m.strip())
+    kw = {"methods": methods, "pictures": not args.no_pictures}
+    return CrosscheckSettings.quick(**kw) if args.quick else CrosscheckSettings(**kw)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run a cross-check from parsed arguments; 0 if consistent, 1 if a check failed, 2 on
+    bad input."""
+    out = args.out or Path(f"crosscheck-{args.scene.stem}")
+    try:
+        settings = settings_from(args)
+        scene = load_scene(args)
+    except (ValueError, OSError) as exc:
+        print(f"crosscheck: {exc}", file=sys.stderr)
+        return 2
+    out.mkdir(parents=True, exist_ok=True)
+    with quiet(out / "crosscheck.log") as console:
+        console.write(f"{scene.name}: {scene.n_blocks} blocks -> {out}\n")
+        progress = Progress(console, len(settings.steps()))
+        result = crosscheck(scene, settings, out, progress)
+        console.write("\n" + summary(result) + f"\ntotal {result.wall_s:.1f} s\n")
+    return 0 if result.consistent else 1
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Console script ``blockmech-crosscheck``."""
+    parser = add_arguments(
+        argparse.ArgumentParser(prog="blockmech-crosscheck", description=__doc__.splitlines()[0])
+    )
+    return run(parser.parse_args(argv))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,113 @@
+"""DEM steps: the static solver to collapse with one interface law, and the explicit DEM
+under a ramped live load."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, replace
+
+from dem.explicit import simulate_lateral
+from dem.explicit.lateral import LiveLoadRamp
+from dem.scene import Scene
+from dem.static import StaticSettings, solve_collapse
+from validation.crosscheck.steps import (
+    Context,
+    StepResult,
+    finite_or_none,
+    skip_without_collapse,
+)
+
+
+@dataclass(frozen=True)
+class StaticCollapse:
+    """:func:`dem.static.solve_collapse` with one interface law, returning the path even when
+    it does not converge, so that a result that did not collapse is reported as such."""
+
+    settings: StaticSettings
+
+    @property
+    def name(self) -> str:
+        return f"dem-{self.settings.interface_model}"
+
+    @property
+    def method(self) -> str:
+        return f"static DEM to collapse ({self.settings.interface_model} law)"
+
+    def run(self, scene: Scene, ctx: Context) -> StepResult:
+        skipped = skip_without_collapse(self, scene, ctx)
+        if skipped is not None:
+            return skipped
+        settings = replace(self.settings, on_failure="return")
+        res = solve_collapse(scene, settings)
+        values = {
+            "lambda_max": res.lambda_max,
+            "termination": res.termination,
+            "collapsed": bool(res.collapsed),
+            "n_steps": res.n_steps,
+            "n_iterations": res.n_iterations,
+            "failure": res.failure,
+        }
+        reason = "" if values["collapsed"] else f"ended by {res.termination}: not a collapse"
+        return StepResult(
+            self.name, self.method, "ok", reason, res.wall_s, asdict(settings), values, res
+        )
+
+
+@dataclass(frozen=True)
+class ExplicitLateral:
+    """The explicit DEM under the scene's live load raised in ramp-and-hold steps
+    (:func:`dem.explicit.simulate_lateral` with a :class:`~dem.explicit.lateral.LiveLoadRamp`):
+    the bracket ``lambda_stable < lambda_c <= lambda_moving``.
+
+    The steps are scaled to the associated upper bound of the vertex model when it ran:
+    first step ``step_fraction`` of it, up to ``max_fraction`` of it (the library's defaults
+    otherwise).
+
+    Attributes
+    ----------
+    step_fraction, max_fraction : float
+        [-].
+    refinements : int
+        Halvings of the step after the first moving one.
+    """
+
+    step_fraction: float = 0.125
+    max_fraction: float = 1.25
+    refinements: int = 4
+    name: str = "explicit"
+    method: str = "explicit DEM, live load ramped and held"
+
+    def driver(self, ctx: Context) -> LiveLoadRamp:
+        lim = ctx.ok("limit-vertex")
+        upper = None if lim is None else lim.values["upper"]
+        if upper is None or not (math.isfinite(upper) and upper > 0):
+            return LiveLoadRamp(refinements=self.refinements)
+        return LiveLoadRamp(
+            step=self.step_fraction * upper,
+            max_lambda=self.max_fraction * upper,
+            refinements=self.refinements,
+        )
+
+    def run(self, scene: Scene, ctx: Context) -> StepResult:
+        skipped = skip_without_collapse(self, scene, ctx)
+        if skipped is not None:
+            return skipped
+        lim = ctx.ok("limit-vertex")
+        if lim is not None and not math.isfinite(lim.values["upper"]):
+            return StepResult(
+                self.name,
+                self.method,
+                "skipped",
+                "the limit analysis finds no mechanism: nothing to ramp towards",
+            )
+        driver = self.driver(ctx)
+        res = simulate_lateral(scene, driver=driver)
+        values = {
+            "collapsed": bool(res.collapsed),
+            "lambda_stable": res.lambda_stable,
+            "lambda_moving": finite_or_none(res.lambda_moving),
+            "moving_blocks": [int(i) for i in res.moving_blocks],
+            "detection_lambda": res.detection_lambda,
+        }
+        settings = {"driver": res.driver, "solver": res.settings}
+        return StepResult(self.name, self.method, "ok", "", res.wall_s, settings, values, res)

@@ -1,0 +1,224 @@
+"""``report.md`` and ``report.json`` of a cross-check, with its VTU files and pictures."""
+
+from __future__ import annotations
+
+import datetime
+import json
+import math
+from pathlib import Path
+
+from dem.scene import Scene
+from validation.crosscheck.pictures import draw_pictures, write_vtus
+from validation.crosscheck.steps import Context
+from validation.report import _fmt, _git_commit, _jsonable, _versions
+
+MULTIPLIERS = (
+    ("limit-vertex", "upper", "upper bound, associated (vertex model)"),
+    ("limit-vertex", "reduced_mu", "estimate (a) mu* (vertex model)"),
+    ("limit-vertex", "iterative", "estimate (b) fixed capacities (vertex model)"),
+    ("limit-vertex", "lower", "lower bound, frictionless (vertex model)"),
+    ("limit-resultant", "upper", "upper bound, associated (resultant model)"),
+    ("limit-resultant", "reduced_mu", "estimate (a) mu* (resultant model)"),
+    ("limit-resultant", "iterative", "estimate (b) fixed capacities (resultant model)"),
+    ("limit-resultant", "lower", "lower bound, frictionless (resultant model)"),
+    ("dem-fibre", "lambda_max", "static DEM, fibre law"),
+    ("dem-resultant", "lambda_max", "static DEM, resultant law"),
+    ("explicit", "lambda_stable", "explicit DEM, last stable lambda"),
+    ("explicit", "lambda_moving", "explicit DEM, first moving lambda"),
+)
+
+
+def write_report(scene: Scene, ctx: Context, result, out: Path, pictures: bool) -> dict:
+    """Write every file of a cross-check into ``out`` and return their paths by key."""
+    out.mkdir(parents=True, exist_ok=True)
+    files = write_vtus(scene, ctx, out)
+    if pictures:
+        files.update({f"{k}_png": v for k, v in draw_pictures(scene, ctx, out, files).items()})
+    files["report_json"] = str(out / "report.json")
+    files["report_md"] = str(out / "report.md")
+    payload = {
+        "scene": result.scene,
+        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "git_commit": _git_commit(),
+        "versions": _versions(),
+        "consistent": result.consistent,
+        "checks": [c.to_dict() for c in result.checks],
+        "steps": [s.to_dict() for s in result.steps],
+        "files": {k: Path(v).name for k, v in files.items()},
+    }
+    Path(files["report_json"]).write_text(json.dumps(_jsonable(payload), indent=1) + "\n")
+    Path(files["report_md"]).write_text(markdown(result, files, payload) + "\n")
+    return files
+
+
+def _table(header: list[str], rows: list[list]) -> list[str]:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(_fmt(c) for c in row) + " |" for row in rows]
+    return lines
+
+
+def _multipliers(result) -> list[list]:
+    steps = {s.name: s for s in result.steps}
+    rows = []
+    for name, key, label in MULTIPLIERS:
+        step = steps.get(name)
+        if step is None or not step.ok or key not in step.values:
+            continue
+        note = step.values.get("termination", "")
+        if key == "lower" and step.values[key] is None:
+            note = step.values.get("lower_note", "")
+        if key == "iterative" and step.values.get("iterative") is not None:
+            note = (
+                f"converged {step.values['iterative_converged']}, "
+                f"admissible {step.values['iterative_admissible']}"
+            )
+        rows.append([label, step.values[key], note])
+    return rows
+
+
+def markdown(result, files: dict, payload: dict) -> str:
+    """The human report: scene, verdict, multipliers, FEM, steps, files, settings."""
+    s = result.scene
+    verdict = "consistent" if result.consistent else "INCONSISTENT (see the failed lines)"
+    lines = [
+        f"# Cross-check of `{s['name']}`",
+        "",
+        f"commit `{payload['git_commit'][:12]}`, {payload['date']}; verdict: **{verdict}**",
+        "",
+        f"{s['n_blocks']} blocks ({s['n_free']} free, {s['n_fixed']} fixed, "
+        f"{s['n_restrained_dofs']} restrained dofs), {s['n_interfaces']} interfaces; weight of "
+        f"the free blocks {s['weight_free_N'] / 1e3:.4g} kN; live load per unit lambda "
+        f"{[round(v / 1e3, 4) for v in s['live_resultant_N']]} kN; extent "
+        f"{[round(v, 4) for v in s['extent_m']]} m; friction {s['mu']}.",
+        "",
+        "## In short",
+        "",
+        *in_short(result),
+        "",
+        "## Verdict",
+        "",
+        *_table(
+            ["check", "result", "value", "bound", "detail"],
+            [[c.name, c.status, c.value, c.bound, c.detail] for c in result.checks],
+        ),
+        "",
+        "## Load multipliers",
+        "",
+        *_table(["quantity", "lambda", "note"], _multipliers(result)),
+        "",
+    ]
+    fem = next((x for x in result.steps if x.name == "fem" and x.ok), None)
+    if fem is not None:
+        v = fem.values
+        lines += [
+            "## Block stresses at the DEM collapse state (FEM)",
+            "",
+            f"State {fem.settings['state']} at lambda = {fem.settings['lambda']:.6g}; largest "
+            f"tension {_mpa(v['max_tension_Pa'])} MPa (block {v['max_tension_block']}), largest "
+            f"compression {_mpa(v['max_compression_Pa'])} MPa (block "
+            f"{v['max_compression_block']}); largest equilibrium residual {_fmt(v['max_residual'])}"
+            f" (tolerance {v['residual_tolerance']:g}). E = {fem.settings['young'] / 1e9:g} GPa is "
+            "a placeholder: the stresses of a statically determinate block do not depend on it.",
+            "",
+            *_table(
+                ["block", "residual", "max principal [MPa]", "min principal [MPa]"],
+                [[b["block"], b["residual"], _mpa(b.get("max_principal")),
+                  _mpa(b.get("min_principal"))] for b in v["blocks"]],
+            ),
+            "",
+        ]  # fmt: skip
+    lines += [
+        "## Steps",
+        "",
+        *_table(
+            ["step", "method", "status", "wall [s]", "reason"],
+            [[x.name, x.method, x.status, x.wall_s, x.reason] for x in result.steps],
+        ),
+        "",
+        "## Files",
+        "",
+        *[f"- `{Path(v).name}` ({k})" for k, v in files.items()],
+        "",
+        *[f"![{k}]({Path(v).name})" for k, v in files.items() if k.endswith("_png")],
+        "",
+        "## Settings of every step",
+        "",
+        *[f"- {x.name}: `{json.dumps(_jsonable(x.settings))}`" for x in result.steps],
+    ]
+    return "\n".join(lines)
+
+
+def _value(result, step: str, key: str):
+    found = [s for s in result.steps if s.name == step and s.ok]
+    return found[0].values.get(key) if found else None
+
+
+def in_short(result) -> list[str]:
+    """The few sentences an engineer reads first: stands, bounds, DEM, mechanism, stresses."""
+    out = []
+    stands = _value(result, "dead-load", "stands")
+    if stands is not None:
+        out.append(f"- Under its dead load the structure {'stands' if stands else 'FALLS'}.")
+    upper, lower = _value(result, "limit-vertex", "upper"), _value(result, "limit-vertex", "lower")
+    if upper is not None and not math.isfinite(upper):
+        out.append(
+            "- Rigid blocks with Coulomb joints: no collapse mechanism, the live load is "
+            "carried for every multiplier (limit analysis, unbounded)."
+        )
+    elif upper is not None:
+        if lower is not None:
+            span = f"between {lower:.4g} and {upper:.4g} (proven bounds)"
+        else:
+            note = _value(result, "limit-vertex", "lower_note")
+            span = f"at most {upper:.4g} (proven upper bound; {note})"
+        out.append(
+            f"- Rigid blocks with Coulomb joints (vertex model): collapse multiplier {span}."
+        )
+    dem = [
+        (
+            law,
+            _value(result, f"dem-{law}", "lambda_max"),
+            _value(result, f"dem-{law}", "termination"),
+        )
+        for law in ("fibre", "resultant")
+    ]
+    dem = [f"{law} law {lam:.4g} ({end})" for law, lam, end in dem if lam is not None]
+    if dem:
+        out.append(f"- Static DEM: {', '.join(dem)}.")
+    stable, moving = (
+        _value(result, "explicit", "lambda_stable"),
+        _value(result, "explicit", "lambda_moving"),
+    )
+    if stable is not None:
+        out.append(
+            f"- Explicit DEM: at rest up to lambda = {stable:.4g}, "
+            + (f"moving at {moving:.4g}." if moving is not None else "no motion found.")
+        )
+    d = result.scene.get("live_weight_direction")
+    if d is not None:
+        out.append(
+            f"- The live load is each block's weight along {[round(c, 3) for c in d]}: "
+            "lambda is the uniform acceleration in g the structure carries along it (for a "
+            "horizontal direction, an equivalent static seismic coefficient)."
+        )
+    moving = _value(result, "limit-vertex", "moving_blocks")
+    if moving:
+        more = f" and {len(moving) - 20} more" if len(moving) > 20 else ""
+        out.append(f"- Mechanism (limit analysis): blocks {moving[:20]}{more} move.")
+    tension = _value(result, "fem", "max_tension_Pa")
+    if tension is not None:
+        comp = _value(result, "fem", "max_compression_Pa")
+        out.append(
+            f"- At the DEM state of lambda_max the largest tension in a block is "
+            f"{tension / 1e6:.3g} MPa and the largest compression {-comp / 1e6:.3g} MPa."
+        )
+    failed = sum(c.status == "fail" for c in result.checks)
+    out.append(
+        f"- The methods are {'consistent' if not failed else 'NOT consistent'} "
+        f"({failed} failed check{'s' if failed != 1 else ''}; see the verdict)."
+    )
+    return out
+
+
+def _mpa(value) -> float | None:
+    return None if value is None else value / 1e6

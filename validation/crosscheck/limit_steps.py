@@ -1,0 +1,101 @@
+"""Limit-analysis steps: the dead-load check and the bounds of one interface model."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dem.scene import Scene
+from limit import LimitSettings, NoMechanismError, bounds_and_estimates, stands
+from validation.crosscheck.steps import Context, StepResult, finite_or_none, skip_without_collapse
+
+
+@dataclass(frozen=True)
+class DeadLoadCheck:
+    """Does the scene stand under its dead load? (:func:`limit.stands`: a certified yes, or no
+    with the blocks and interfaces of the dead-load mechanism)."""
+
+    settings: LimitSettings
+    name: str = "dead-load"
+    method: str = "dead-load check (limit analysis, vertex model)"
+
+    def run(self, scene: Scene, ctx: Context) -> StepResult:
+        res = stands(scene, self.settings)
+        values = {
+            "stands": bool(res.stands),
+            "load_factor": res.load_factor,
+            "certificate": _cert(res.certificate),
+            "blocks": list(res.blocks),
+            "interfaces": list(res.interfaces),
+        }
+        return StepResult(
+            self.name,
+            self.method,
+            "ok",
+            res.reason,
+            res.wall_s,
+            self.settings.to_dict(),
+            values,
+            res,
+        )
+
+
+def _cert(certificate) -> dict | None:
+    if certificate is None:
+        return None
+    return {
+        k: finite_or_none(v)
+        for k, v in certificate.to_dict().items()
+        if isinstance(v, (int, float))
+    }
+
+
+@dataclass(frozen=True)
+class LimitBounds:
+    """Associated upper bound, the two non-associated estimates, the lower bound and the
+    mechanism of one interface model (:func:`limit.bounds_and_estimates`)."""
+
+    settings: LimitSettings
+    max_updates: int | None = None
+
+    @property
+    def name(self) -> str:
+        return f"limit-{self.settings.interface_model}"
+
+    @property
+    def method(self) -> str:
+        return f"limit analysis ({self.settings.interface_model} model)"
+
+    def run(self, scene: Scene, ctx: Context) -> StepResult:
+        skipped = skip_without_collapse(self, scene, ctx)
+        if skipped is not None:
+            return skipped
+        settings = {**self.settings.to_dict(), "max_updates": self.max_updates}
+        try:
+            b = bounds_and_estimates(
+                scene, self.settings, max_updates=self.max_updates, strict=False
+            )
+        except NoMechanismError as exc:
+            values = {"upper": math.inf, "unbounded": True}
+            return StepResult(self.name, self.method, "ok", str(exc), 0.0, settings, values)
+        it = b.iterative
+        values = {
+            "upper": b.upper,
+            "reduced_mu": finite_or_none(b.reduced_mu),
+            "iterative": None if it is None else it.lam,
+            "iterative_converged": None if it is None else it.converged,
+            "iterative_admissible": None if it is None else it.admissible,
+            "lower": finite_or_none(b.lower),
+            "lower_note": b.lower_note,
+            "status": b.associated.status,
+            "certificate_worst": b.associated.certificate.worst(),
+            "part_wall_s": b.wall_s,
+            "ordering_issues": list(b.issues),
+            "moving_blocks": np.flatnonzero(
+                np.abs(b.associated.velocities).max(axis=1)
+                > 1e-6 * np.abs(b.associated.velocities).max()
+            ).tolist(),
+        }
+        return StepResult(self.name, self.method, "ok", "", 0.0, settings, values, b)

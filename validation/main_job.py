@@ -1,0 +1,111 @@
+"""``python -m validation all``: one progress line per case, a summary table, the rest logged.
+
+The summary separates numerical errors (rows whose reference is a closed form, an exact count
+or another method) from model errors (rows whose reference is a seed's table or experiment),
+as ``paper_figures/fig_speed_error.py`` does.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import traceback
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from validation.quiet import quiet, table
+from validation.report import Row
+
+
+def is_published(source: str) -> bool:
+    """A seed's table or reported experiment (a model error), not a numerical reference."""
+    s = source.lower()
+    return s.startswith("seed ") and ("table" in s or "experiment" in s)
+
+
+@dataclass(frozen=True)
+class CaseSummary:
+    """One line of the final table.
+
+    Attributes
+    ----------
+    case : str
+    rows : int
+    worst_numerical, worst_model : float or None
+        Largest relative error of the rows with a numerical / published reference [-].
+    wall_s : float
+        [s].
+    failed : str
+        Empty, or the error that ended the case.
+    """
+
+    case: str
+    rows: int
+    worst_numerical: float | None
+    worst_model: float | None
+    wall_s: float
+    failed: str = ""
+
+    @classmethod
+    def of(cls, case: str, rows: Sequence[Row], wall_s: float) -> CaseSummary:
+        worst: dict[bool, float | None] = {True: None, False: None}
+        for r in rows:
+            err = r.rel_error
+            if err is None or not math.isfinite(err):
+                continue
+            kind = is_published(r.source)
+            worst[kind] = err if worst[kind] is None else max(worst[kind], err)
+        return cls(case, len(rows), worst[False], worst[True], wall_s)
+
+    def cells(self) -> list:
+        return [
+            self.case,
+            self.rows,
+            self.worst_numerical,
+            self.worst_model,
+            round(self.wall_s, 1),
+            self.failed or "no",
+        ]
+
+
+HEADER = ("case", "rows", "worst numerical error", "worst model error", "wall [s]", "failed")
+
+
+def run_all(
+    names: Sequence[str],
+    run_case: Callable[[str, bool], list[Row]],
+    quick: bool,
+    log_path: Path,
+) -> list[CaseSummary]:
+    """Run every case quietly; print a line per case and the summary table to the terminal.
+
+    Parameters
+    ----------
+    names : sequence of str
+    run_case : callable
+        ``run_case(name, quick)`` runs a case, writes its files and returns its rows.
+    quick : bool
+    log_path : Path
+        Where warnings, solver output and tracebacks go.
+    """
+    summaries = []
+    with quiet(log_path) as console:
+        console.write(f"{len(names)} cases{' (quick)' if quick else ''}; log: {log_path}\n")
+        for i, name in enumerate(names, 1):
+            console.write(f"[{i}/{len(names)}] {name} ... ")
+            start = time.perf_counter()
+            print(f"===== {name} =====")  # goes to the log, marks where each case starts
+            try:
+                rows = run_case(name, quick)
+                s = CaseSummary.of(name, rows, time.perf_counter() - start)
+                console.write(f"ok, {s.rows} rows, {s.wall_s:.1f} s\n")
+            except Exception as exc:  # report every case, fail at the end
+                traceback.print_exc()
+                s = CaseSummary(
+                    name, 0, None, None, time.perf_counter() - start, f"{type(exc).__name__}"
+                )
+                console.write(f"FAILED ({type(exc).__name__}: {exc}; see the log)\n")
+            summaries.append(s)
+        console.write("\n" + table(HEADER, [s.cells() for s in summaries]) + "\n")
+    return summaries
