@@ -22,6 +22,7 @@ worker loads the numba cache; every timing below comes after a warm-up on every 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import shutil
@@ -39,15 +40,12 @@ from validation.sweep import DaskExecutor, SerialExecutor, latest_records, make_
 from validation.sweep.demo import tilting_block
 from validation.sweep.execute import execute_task_one_thread, one_numba_thread
 
-SWEEPS = Path(__file__).resolve().parents[1] / "validation" / "results" / "sweeps"
+RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
 K_IMP_3 = k_series(tis_panel_k_def(3), K_GAPS_SEED_000) / (GPA / MM)
 SMALL = {"n": 3, "theta_deg": 2.5, "k_n_gpa_mm": K_IMP_3, "disc": QUICK, "mu_mean": 0.23,
          "mu_std": 0.06, "stop_below_peak_fraction": 0.85}  # fmt: skip
-STUDIES = {  # study: (tasks of the full study, store directories to read per-task times from)
-    "tis-friction-uq (64 + 1 runs)": (65, ("tis-friction-uq", "tis-friction-uq-quick")),
-    "tis-gaps-uq (4 x 16 + 2 runs)": (66, ("tis-gaps-uq", "tis-gaps-uq-quick")),
-    "masonry-uq (128 + 1 runs)": (129, ("masonry-uq", "masonry-uq-quick")),
-}
+STUDIES = {"tis-friction-uq": 65, "tis-gaps-uq": 66, "masonry-uq": 65}
+"""Tasks of each full study (64 + 1, 4 x 16 + 2, 64 + 1)."""
 
 
 def _cluster(n_workers: int, threads: int = 1):
@@ -145,8 +143,13 @@ def speedup(n_tasks: int, n_workers: int, tmp: Path) -> None:
         same = [r["result"] for r in s_sum.records()] == [r["result"] for r in p_sum.records()]
         per_task = statistics.median(r["wall_s"] for r in s_sum.records())
         print(
-            f"  serial {serial:.2f} s ({per_task:.2f} s per task), dask {parallel:.2f} s, "
-            f"speed-up {serial / parallel:.2f} (target >= 1.8); results identical: {same}"
+            f"  serial {serial:.2f} s ({per_task:.2f} s per task, numba on every core), serial "
+            f"on one numba thread {serial_1:.2f} s, dask {parallel:.2f} s; results identical: "
+            f"{same}"
+        )
+        print(
+            f"  speed-up {serial / parallel:.2f} over serial, {serial_1 / parallel:.2f} over "
+            "serial on one numba thread (target >= 1.8)"
         )
         overhead(client, tmp)
         memory(client)
@@ -179,23 +182,22 @@ def memory(client) -> None:
 
 
 def projection() -> None:
-    print("== 5. projection of the full studies (per-task median wall from the stores) ==")
-    print(f"  {'study':34s} {'t/task':>8s} {'2 workers':>10s} {'16':>8s} {'128':>8s}  source")
-    for study, (n, dirs) in STUDIES.items():
-        store = next((SWEEPS / d / "results.jsonl" for d in dirs
-                      if (SWEEPS / d / "results.jsonl").exists()), None)  # fmt: skip
-        if store is None:
-            print(f"  {study:34s} (no store: run the case first)")
+    print("== 5. projection of the full studies (median wall per run from CASE-runs.jsonl) ==")
+    print(f"  {'study':16s} {'runs':>5s} {'t/run':>7s} {'2 workers':>10s} {'16':>7s} {'128':>7s}")
+    for study, n in STUDIES.items():
+        runs, case = RESULTS / f"{study}-runs.jsonl", RESULTS / f"{study}.json"
+        if not (runs.exists() and case.exists()):
+            print(f"  {study:16s} (no results: run the case first)")
             continue
-        t = statistics.median(r["wall_s"] for r in latest_records(store) if r["wall_s"])
-        cells = [f"{math.ceil(n / w) * t / 60:7.1f}m" for w in (2, 16, 128)]
+        t = statistics.median(r["wall_s"] for r in latest_records(runs) if r["wall_s"])
+        cells = [f"{math.ceil(n / w) * t / 60:6.1f}m" for w in (2, 16, 128)]
+        mode = "quick" if json.loads(case.read_text())["quick"] else "full"
         print(
-            f"  {study:34s} {t:7.1f}s {cells[0]:>10s} {cells[1]:>8s} {cells[2]:>8s}  "
-            f"{store.parent.name}"
+            f"  {study:16s} {n:5d} {t:6.1f}s {cells[0]:>10s} {cells[1]:>7s} {cells[2]:>7s}"
+            f"  (t/run of the {mode} results)"
         )
     print(
-        "  (waves of ceil(N / workers) tasks of the median time; a quick store's time is a "
-        "coarse run's)"
+        "  waves of ceil(runs / workers) runs of the median time; quick runs are coarser (shorter)"
     )
 
 

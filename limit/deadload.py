@@ -195,6 +195,13 @@ def stands(scene: Scene, settings: LimitSettings | None = None) -> StandsResult:
     )
 
 
+def _named(check: StandsResult) -> str:
+    shown = f"blocks most involved: {list(check.blocks[:10])}"
+    if check.interfaces:
+        shown += f", interfaces: {list(check.interfaces[:10])}"
+    return shown
+
+
 def dead_load_error(scene: Scene, settings: LimitSettings, message: str) -> Exception:
     """The :class:`DeadLoadInfeasibleError` of a scene whose programme was infeasible, naming
     the blocks and interfaces of its dead-load mechanism (:func:`stands`); a
@@ -205,7 +212,29 @@ def dead_load_error(scene: Scene, settings: LimitSettings, message: str) -> Exce
             f"the solver reported no equilibrium under the dead load, but the dead-load check "
             f"finds a certified one: numerical trouble, not a structural answer. ({message})"
         )
-    shown = f"blocks most involved: {list(check.blocks[:10])}"
-    if check.interfaces:
-        shown += f", interfaces: {list(check.interfaces[:10])}"
-    return DeadLoadInfeasibleError(f"{message} {shown}.", check.blocks, check.interfaces)
+    return DeadLoadInfeasibleError(f"{message} {_named(check)}.", check.blocks, check.interfaces)
+
+
+def require_standing(scene: Scene, settings: LimitSettings) -> None:
+    """Refuse a multiplier of a scene whose dead load alone is not carried.
+
+    The admissible multipliers form an interval; when it does not contain 0 (the structure
+    stands only while the live load props it), its largest point is no collapse multiplier.
+    Skipped when ``settings.dead_load_check`` is off.
+
+    Raises
+    ------
+    DeadLoadInfeasibleError
+        Naming the blocks and interfaces of the dead-load mechanism.
+    """
+    if not settings.dead_load_check:
+        return
+    check = stands(scene, settings)
+    if not check.stands:
+        raise DeadLoadInfeasibleError(
+            f"no equilibrium under the dead load alone ({check.reason}); the live load can "
+            f"prop the structure, but then the largest multiplier is no collapse multiplier. "
+            f"{_named(check)}.",
+            check.blocks,
+            check.interfaces,
+        )

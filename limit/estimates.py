@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dem.scene import Scene
+from limit.deadload import require_standing
 from limit.errors import (
     DeadLoadInfeasibleError,
     InconsistentBoundsError,
@@ -414,6 +415,7 @@ def bounds_and_estimates(
     t = time.perf_counter()
     sp_ = build_static_problem(scene, settings)
     upper = solve_static(sp_)
+    require_standing(scene, settings)
     times["upper"] = time.perf_counter() - t
     t = time.perf_counter()
     mu = sp_.mu_interface

@@ -155,6 +155,12 @@ class LimitSettings:
         Largest accepted relative certificate residual (equilibrium, cones, gap) [-].
     clarabel : dict
         Further Clarabel settings (e.g. ``{"direct_solve_method": "qdldl"}``).
+    dead_load_check : bool
+        Before a multiplier is returned, prove that the dead load alone is carried
+        (:func:`limit.stands`: one more solve of the same size). Without it, a structure that
+        stands only while some live load props it would get the largest admissible
+        multiplier of that interval, which is no collapse multiplier. Default True; switch it
+        off only for a scene already known to stand.
     """
 
     interface_model: str = "vertex"
@@ -169,6 +175,7 @@ class LimitSettings:
     cert_tol: float = 1e-6
     clarabel: dict = field(default_factory=lambda: {"direct_solve_method": "qdldl"})
     torsion_bending: bool = False
+    dead_load_check: bool = True
 
     def __post_init__(self) -> None:
         _choice("interface_model", self.interface_model, MODELS)
@@ -196,8 +203,9 @@ class LimitSettings:
             raise ValueError(
                 f"clarabel must be a dict of Clarabel settings by name, got {self.clarabel!r}"
             )
-        if not isinstance(self.torsion_bending, bool | np.bool_):
-            raise ValueError(f"torsion_bending must be True or False, got {self.torsion_bending!r}")
+        for name in ("torsion_bending", "dead_load_check"):
+            if not isinstance(getattr(self, name), bool | np.bool_):
+                raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
 
     def with_(self, **kw) -> LimitSettings:
         """A copy with some fields changed."""

@@ -35,7 +35,7 @@ from limit.clarabel import (
     solve_static,
     structural_error,
 )
-from limit.deadload import dead_load_error, unsupported_blocks
+from limit.deadload import dead_load_error, require_standing, unsupported_blocks
 from limit.errors import (
     DeadLoadInfeasibleError,
     LimitAnalysisError,
@@ -102,7 +102,8 @@ def limit_analysis(
     Raises
     ------
     DeadLoadInfeasibleError
-        The structure falls down by itself; ``blocks`` and ``interfaces`` name its dead-load
+        The structure falls down by itself, even if some live load would prop it
+        (``settings.dead_load_check``); ``blocks`` and ``interfaces`` name its dead-load
         mechanism.
     NoMechanismError
         The live load is carried for every multiplier.
@@ -115,9 +116,11 @@ def limit_analysis(
     sp_ = build_static_problem(scene, settings)
     sp_.extra["build_s"] = time.perf_counter() - t0
     try:
-        return solve_static(sp_, certify=certify)
+        result = solve_static(sp_, certify=certify)
     except DeadLoadInfeasibleError as exc:
         raise dead_load_error(scene, settings, str(exc)) from exc
+    require_standing(scene, settings)
+    return result
 
 
 def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> tuple:

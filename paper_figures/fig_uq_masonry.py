@@ -3,7 +3,8 @@
 Reads ``validation/results/masonry-uq.json`` and its sweep store; writes
 ``paper_figures/out/fig_uq_masonry.png``: (a) empirical CDF (fragility-style) of the static
 DEM lambda of the runs that collapsed and of the limit upper bound, with the experiment, the
-seed's DEM and the nominal wall marked; (b) lambda against the return-wall length.
+seed's DEM and the nominal wall marked; (b) lambda against the return-wall length, with the
+runs that did not collapse (the lambda they reached, a lower bound of theirs) as crosses.
 """
 
 from __future__ import annotations
@@ -41,6 +42,10 @@ def main() -> list:
              title="(a) empirical CDF")  # fmt: skip
     n_ret = np.array([r["return_blocks"] for r in dem])
     ax_b.plot(n_ret - 0.05, [r["lam_dem"] for r in dem], "o", alpha=0.6, label="static DEM")
+    open_ = [r for r in reals if not r["collapsed"]]
+    if open_:
+        ax_b.plot([r["return_blocks"] - 0.05 for r in open_], [r["lam_dem"] for r in open_], "x",
+                  color="C0", label="static DEM, no collapse (lambda reached)")  # fmt: skip
     up = [r for r in reals if r["lam_upper"] is not None]
     ax_b.plot(np.array([r["return_blocks"] for r in up]) + 0.05, [r["lam_upper"] for r in up],
               "^", alpha=0.6, label="limit upper bound")  # fmt: skip

@@ -14,15 +14,12 @@ from validation.sweep.store import latest_records  # noqa: E402
 
 
 def load_study(case: str) -> tuple[dict, list[dict]]:
-    """``(case JSON, records of its sweep)``, or an error naming the case to run."""
-    path = RESULTS / f"{case}.json"
-    if not path.exists():
-        raise FileNotFoundError(f"{path} is missing: run 'python -m validation run {case} --quick'")
-    data = json.loads(path.read_text())
-    store = RESULTS / "sweeps" / (f"{case}-quick" if data["quick"] else case) / "results.jsonl"
-    if not store.exists():
-        raise FileNotFoundError(f"{store} is missing: rerun 'python -m validation run {case}'")
-    return data, latest_records(store)
+    """``(case JSON, records of its runs)``, or an error naming the case to run."""
+    path, runs = RESULTS / f"{case}.json", RESULTS / f"{case}-runs.jsonl"
+    if not (path.exists() and runs.exists()):
+        raise FileNotFoundError(f"{path} or {runs.name} is missing: run 'python -m validation "
+                                f"run {case} --quick'")  # fmt: skip
+    return json.loads(path.read_text()), latest_records(runs)
 
 
 def ok_results(records: list[dict]) -> list[dict]:

@@ -127,16 +127,20 @@ def _degrading(monkeypatch, labels, break_point=False):
     return calls
 
 
+# the retries of one programme, without the dead-load check's own solves
+ONE_PROGRAMME = LimitSettings(dead_load_check=False)
+
+
 def test_inaccurate_fast_solve_is_repeated(monkeypatch):
     calls = _degrading(monkeypatch, {"fast"})
-    res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7))
+    res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7), ONE_PROGRAMME)
     assert calls == ["fast", "refined"] and res.status == "optimal"
     assert res.lam == pytest.approx(0.5, rel=1e-6)
 
 
 def test_accurate_fast_solve_is_returned(monkeypatch):
     calls = _degrading(monkeypatch, set())
-    res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7))
+    res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7), ONE_PROGRAMME)
     assert calls == ["fast"] and res.status == "optimal"
 
 
@@ -144,7 +148,7 @@ def test_inaccurate_to_the_end_but_certified_warns_once(monkeypatch):
     calls = _degrading(monkeypatch, {"fast", "refined", "tightened"})
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7))
+        res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7), ONE_PROGRAMME)
     assert calls == ["fast", "refined", "tightened"]
     assert res.status == "optimal_inaccurate" and res.is_inaccurate
     assert res.lam == pytest.approx(0.5, rel=1e-6)
@@ -156,7 +160,36 @@ def test_inaccurate_and_uncertified_is_refused_with_one_message(monkeypatch):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         with pytest.raises(NumericalFailureError, match=r"after 3 Clarabel solves") as info:
-            limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7))
+            limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7), ONE_PROGRAMME)
     assert "fast optimal_inaccurate, refined optimal_inaccurate" in str(info.value)
     assert "failed its certificate" in str(info.value)
     assert caught == []
+
+
+@pytest.mark.parametrize("model", ["vertex", "resultant"])
+def test_a_structure_propped_by_its_live_load_gets_no_multiplier(model):
+    # a squat block on a 30 deg slope with mu = 0.3 < tan 30 slides down by itself. A horizontal
+    # uphill live load of lambda times its weight holds it for tan(30 - phi) <= lambda <=
+    # tan(30 + phi) (phi = atan 0.3): the largest end of that interval, tan(46.7 deg) = 1.061,
+    # is no collapse multiplier, since lambda = 0 is not admissible.
+    from dem.scene import proportional_to_weight
+
+    theta = math.radians(30.0)
+    uphill = (1.0, 0.0, 0.0)  # the slope rises towards +x
+    settings = LimitSettings(interface_model=model)
+    sliding = tilted_block(0.4, 0.1, theta, 0.3)
+    scene = sliding.with_loads(live=proportional_to_weight(sliding.assembly, uphill))
+    with pytest.raises(DeadLoadInfeasibleError, match="dead load alone") as info:
+        limit_analysis(scene, settings)
+    assert info.value.blocks == (1,)
+    with pytest.raises(DeadLoadInfeasibleError):
+        limit.bounds_and_estimates(scene, settings, iterate=False)
+    # switched off, the interval's end comes back: the check is what refuses it
+    propped = limit_analysis(scene, settings.with_(dead_load_check=False))
+    expected = math.tan(theta + math.atan(0.3))
+    assert propped.lam == pytest.approx(expected, rel=1e-6)
+    # with mu = 0.7 > tan 30 it stands, and sliding uphill at tan(30 + atan 0.7) is its collapse
+    standing = tilted_block(0.4, 0.1, theta, 0.7)
+    scene = standing.with_loads(live=proportional_to_weight(standing.assembly, uphill))
+    expected = math.tan(theta + math.atan(0.7))
+    assert limit_analysis(scene, settings).lam == pytest.approx(expected, rel=1e-6)

@@ -1,10 +1,12 @@
 """Uncertainty studies run as sweeps: ``tis-friction-uq``, ``tis-gaps-uq``, ``masonry-uq``.
 
 Each case is a Monte Carlo sweep (:mod:`validation.sweep`): one task per realisation, seeded
-from the study's root seed by ``SeedSequence.spawn``, records streamed to
-``validation/results/sweeps/CASE[-quick]/results.jsonl``. The store is reused (a killed study
+from the study's root seed by ``SeedSequence.spawn``, records streamed to the working store
+``validation/results/.sweeps/CASE[-quick]/`` (git-ignored). The store is reused (a killed study
 resumes) only while its manifest matches: the settings and a hash of the sources of ``dem/``,
-``limit/`` and the task code; any change there starts the study afresh. Where the sweep runs
+``limit/`` and the task code; any change there starts the study afresh. When the study ends, its
+records (the last of each run, in task order) become the side product ``CASE-runs.jsonl``
+beside ``CASE.json``; the figures read it. Where the sweep runs
 follows :func:`validation.sweep.open_executor` (``BLOCKMECH_SCHEDULER``, ``BLOCKMECH_WORKERS``,
 ``validation ... --workers N / --scheduler ADDRESS``).
 
@@ -55,13 +57,13 @@ from limit.errors import LimitAnalysisError
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
 from validation.cases.tis import CONVERGED, QUICK, THICKNESS_MM, mechanism
-from validation.report import RESULTS_DIR, Row
+from validation.report import RESULTS_DIR, Row, output_dir
 from validation.sweep import latest_records, make_tasks, run_sweep
 from validation.sweep.stats import mean_ci
 
 logger = logging.getLogger(__name__)
 
-SWEEPS_DIR = RESULTS_DIR / "sweeps"
+SWEEPS_DIR = RESULTS_DIR / ".sweeps"
 ROOT = Path(__file__).resolve().parents[2]
 CURVE_POINTS = 150
 TIS_N, TIS_THETA = 5, 2.5
@@ -88,6 +90,9 @@ def _sweep(case: str, fn, params: list[dict], root_seed: int, quick: bool, prefi
     tasks = list(make_tasks(params, root_seed, prefix=prefix))
     manifest = {"case": case, "quick": quick, "root_seed": root_seed, "code": code_fingerprint()}
     summary = run_sweep(fn, tasks, store_dir(case, quick), manifest=manifest, overwrite=True)
+    records = latest_records(summary.directory / "results.jsonl")
+    runs = output_dir() / f"{case}-runs.jsonl"
+    runs.write_text("".join(json.dumps(r, sort_keys=True) + "\n" for r in records))
     logger.info(
         "%s: %d run, %d reused, %d failed", case, summary.n_run, summary.n_skipped, summary.n_failed
     )
@@ -382,7 +387,6 @@ MASONRY_SPECIMEN = "S15"
 DIM_STD_MM = 0.5  # std of each block dimension [mm]
 MU_MEAN, MU_COV = 0.7, 0.1
 RETURN_BLOCKS = (2, 6)  # uniform integer range of the return-wall length, in blocks
-COLLAPSED = ("plateau", "softening", "snap_back")
 
 
 def masonry_task(params: dict, seed: int) -> dict:
@@ -402,7 +406,7 @@ def masonry_task(params: dict, seed: int) -> dict:
     )
     static = solve_collapse(
         scene,
-        StaticSettings(interface_model="fibre", on_failure="stop", max_steps=params["max_steps"]),
+        StaticSettings(interface_model="fibre", on_failure="return", **params["static"]),
     )
     try:
         upper, limit_status = (
@@ -415,7 +419,8 @@ def masonry_task(params: dict, seed: int) -> dict:
         "return_blocks": n_return,
         "lam_dem": static.lambda_max,
         "termination": static.termination,
-        "collapsed": static.termination in COLLAPSED,
+        "collapsed": bool(static.collapsed),
+        "failure": static.failure[:200],
         "n_steps": static.n_steps,
         "lam_upper": upper,
         "limit_status": limit_status,
@@ -427,8 +432,10 @@ def masonry_task(params: dict, seed: int) -> dict:
 def run_masonry_uq(quick: bool):
     """Restrepo-Velez S15 with block tolerances, mu scatter and a random return-wall length."""
     spec = SPECIMENS[f"restrepo-{MASONRY_SPECIMEN}"]
-    n_real = 8 if quick else 128
-    base = {"specimen": MASONRY_SPECIMEN, "max_steps": 150 if quick else 400}
+    n_real = 8 if quick else 64
+    # quick: 3 x 3 fibres per joint and a coarser load step (the default is 5 x 5 and 0.01)
+    static = {"fibre_points": 3, "load_step": 0.02, "max_steps": 120} if quick else {}
+    base = {"specimen": MASONRY_SPECIMEN, "static": static}
     params = [{**base, "nominal": True}] + [{**base, "nominal": False}] * n_real
     recs = _sweep("masonry-uq", masonry_task, params, 15002, quick, "wall")
     settings = {
@@ -507,9 +514,12 @@ def run_masonry_uq(quick: bool):
         "The scene carries friction per block, not per interface: the static DEM and the limit "
         "analysis take the smaller of the two blocks' values at each joint, so the joint mu "
         "scatter is that of the minimum of two draws. Static DEM: fibre law, dry joints, "
-        "on_failure='stop'; a run counts as collapsed when it ends on a plateau, softening or "
-        "snap-back; the others are counted apart. Limit: associated vertex model (an upper "
-        "bound for zero-dilatancy friction). The nominal row: no scatter, 3-block return walls."
+        "on_failure='return'; a run counts as collapsed when the solver flags it (a plateau, "
+        "softening or snap-back); the others are counted apart with their termination. "
+        "Limit: associated vertex model (an upper bound for zero-dilatancy friction). "
+        "The nominal row: no scatter, 3-block return walls. Static settings: "
+        + (str(static) if static else "the defaults (5 x 5 fibres, load step 0.01)")
+        + (" (quick: coarse)." if quick else ".")
     )
     return rows, notes
 
