@@ -1,35 +1,46 @@
-"""Cost of the explicit TIS solver: per node per step, and the full 5 x 5 run.
+"""Cost of the explicit solver: per node per step, the converged 5 x 5 run, the seed's resolution.
 
-1. Step cost on the 5 x 5, 2.5 degree panel in its relaxed state for several node spacings,
-   serial and parallel contact loops: wall and process-CPU time per step, per node and per
-   contact entry (the machine is shared: the CPU/wall ratio says how much of it we had).
-2. The full 5 x 5, 2.5 degree run (relaxation + indentation past the peak until the central
-   block is out) at the discretisation ``tis-convergence`` calls converged
-   (``validation.cases.tis.CONVERGED``), with its wall time and cost per node per step.
+1. Step cost on the relaxed 5 x 5, 2.5 degree panel with the indenter in contact, for several
+   node spacings, serial and parallel contact loops, and the share of the contact kernel and of
+   the force accumulation in a step: wall and process-CPU time per step and per node (the
+   machine is shared: CPU / wall says how much of the cores we had, the load average is
+   printed). ``contacts`` is the node loop alone (forces and their sums per block).
+2. The full 5 x 5, 2.5 degree run (relaxation + indentation until the central block is out) at
+   the discretisation ``tis-convergence`` calls converged (``validation.cases.tis.CONVERGED``),
+   with its wall time and cost per node per step (issue 12 target: 15 ns).
+3. The seed's resolution, node spacing 0.06 mm (about half a million nodes): set-up time, the
+   measured cost of a step, and the run time projected from it and the step count of the run
+   of item 2 (the number of steps does not depend on the node spacing: the time step follows
+   the total stiffness, which the tributary areas keep). ``--seed-full`` runs it instead of
+   projecting (target: 10 minutes on 2 cores; seed 000: about 50 CPU hours).
 
 Usage::
 
-    python benchmarks/bench_explicit.py            # step costs + the full converged run
-    python benchmarks/bench_explicit.py --quick    # step costs + a coarse full run
-
-Target of issue 5: the full converged 5 x 5 run under 10 minutes wall time on 2 cores (the
-seed's C++ code: about 50 CPU hours). Wall-clock on a shared machine: compare ratios within a run.
+    python benchmarks/bench_explicit.py               # 1, 2 and 3 (projected)
+    python benchmarks/bench_explicit.py --quick       # 1, a coarse 2, and 3 (projected)
+    python benchmarks/bench_explicit.py --seed-full   # 1, 2 and the full run of 3
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 from dem.explicit import ExplicitModel, ExplicitSettings, RelaxationSettings
+from dem.kernels.contact_force import node_contacts, node_contacts_parallel
+from dem.kernels.integrate import quat_to_rot
 from dem.scenes.tis_panel import tis_panel
 from dem.tis_stiffness import tis_panel_k_def
 from dem.units import MM
 from validation.cases.tis import CONVERGED, QUICK, run_panel
 
+SEED_SPACING_MM = 0.06
+SEED_STEPS = 50
+"""Steps timed at the seed's resolution."""
 
-def step_cost(spacing_mm: float, parallel: bool, n_steps: int = 400) -> dict:
-    """Time per step of the relaxed 5 x 5 panel with the indenter in contact."""
+
+def relaxed_panel(spacing_mm: float, parallel: bool) -> ExplicitModel:
     scene = tis_panel(5, 2.5)
     settings = ExplicitSettings(
         k_n=tis_panel_k_def(5), node_spacing=spacing_mm * MM, parallel=parallel
@@ -37,55 +48,104 @@ def step_cost(spacing_mm: float, parallel: bool, n_steps: int = 400) -> dict:
     model = ExplicitModel(scene, settings, scene.meta["central_block"], 1.25 * MM)
     model.relax(RelaxationSettings(min_steps=200))
     model.advance(10)  # compile
+    return model
+
+
+def clock(fn, n: int) -> tuple[float, float]:
+    """Wall and process-CPU seconds per call."""
     wall0, cpu0 = time.perf_counter(), time.process_time()
-    model.advance(n_steps)
-    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+    for _ in range(n):
+        fn()
+    return (time.perf_counter() - wall0) / n, (time.process_time() - cpu0) / n
+
+
+def step_cost(model: ExplicitModel, n_steps: int) -> dict:
+    """Per-step cost of the whole step and of its node loop."""
     nodes = model.nodes.n_nodes + len(model.indenter.block)
-    return {
-        "spacing_mm": spacing_mm,
-        "parallel": parallel,
-        "nodes": nodes,
-        "entries": model.n_entries,
-        "wall_ms_per_step": wall / n_steps * 1e3,
-        "ns_per_node_step": wall / n_steps / nodes * 1e9,
-        "cpu_ns_per_node_step": cpu / n_steps / nodes * 1e9,
-        "cpu_over_wall": cpu / wall,
-    }
+    st, sc = model.state, model.scratch
+    quat_to_rot(st.motion.quat, sc.rot)
+    contacts = st.contacts._replace(shear=st.contacts.shear.copy())
+    kernel = node_contacts_parallel if model.parallel else node_contacts
+    parts = {
+        "step": clock(lambda: model.advance(n_steps), 1),
+        "contacts": clock(lambda: kernel(model.surface, contacts, st.motion, model.bodies,
+                                         model.shapes, model.law, 0.0, sc), n_steps),
+    }  # fmt: skip
+    step_wall, step_cpu = parts["step"]
+    parts["step"] = (step_wall / n_steps, step_cpu / n_steps)
+    return {"nodes": nodes, "entries": model.n_entries, "parts": parts}
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--quick", action="store_true", help="coarse full run")
-    args = parser.parse_args()
-    print("step cost, 5x5 theta=2.5 (wall and process CPU):")
-    for spacing in (1.0, 0.5, 0.25):
+def print_step_costs(spacings) -> None:
+    print("1. step cost, relaxed 5x5 theta=2.5, indenter in contact (ns per node and step):")
+    for spacing in spacings:
         for parallel in (False, True):
-            r = step_cost(spacing, parallel)
-            print(
-                f"  h={r['spacing_mm']:.2f} mm parallel={r['parallel']!s:5}: {r['nodes']:6d} "
-                f"nodes {r['entries']:6d} entries  {r['wall_ms_per_step']:.3f} ms/step  "
-                f"{r['ns_per_node_step']:.1f} ns/node/step (CPU {r['cpu_ns_per_node_step']:.1f}, "
-                f"CPU/wall {r['cpu_over_wall']:.2f})"
+            model = relaxed_panel(spacing, parallel)
+            r = step_cost(model, n_steps=max(20, int(2e6 / model.nodes.n_nodes)))
+            text = ", ".join(
+                f"{name} {w / r['nodes'] * 1e9:.1f} (CPU {c / r['nodes'] * 1e9:.1f})"
+                for name, (w, c) in r["parts"].items()
             )
-    disc = QUICK if args.quick else CONVERGED
-    print(f"full 5x5 theta=2.5 run at {disc}:")
+            w, c = r["parts"]["step"]
+            print(f"  h={spacing:.2f} mm parallel={parallel!s:5} {r['nodes']:7d} nodes "
+                  f"{r['entries']:7d} entries: {text}; CPU/wall {c / w:.2f}")  # fmt: skip
+
+
+def full_run(disc: dict) -> dict:
     wall0, cpu0 = time.perf_counter(), time.process_time()
     res, _ = run_panel(5, 2.5, tis_panel_k_def(5), disc)
     wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
     info = res.info
     steps = info["steps_indentation"] + info["steps_relaxation"]
+    print(f"2. full 5x5 theta=2.5 run at {disc}:")
     print(
-        f"  wall {wall:.1f} s (CPU {cpu:.1f} s), {steps} steps "
-        f"({info['steps_relaxation']} relaxation), dt {info['dt']:.3e} s, "
-        f"{info['n_nodes']} nodes, {info['cost_per_node_step_s'] * 1e9:.1f} ns/node/step "
-        f"(indentation loop)"
+        f"  wall {wall:.1f} s (CPU {cpu:.1f} s), {steps} steps ({info['steps_relaxation']} "
+        f"relaxation), dt {info['dt']:.3e} s, {info['n_nodes']} nodes, "
+        f"{info['cost_per_node_step_s'] * 1e9:.1f} ns/node/step in the indentation loop "
+        f"(target 15)"
     )
-    print(
-        f"  peak load {res.peak_load:.2f} N at {res.deflection_at_peak / MM:.3f} mm, "
-        f"ultimate deflection {res.ultimate_deflection / MM:.3f} mm, "
-        f"loading energy {res.loading_energy / MM:.1f} N mm"
-    )
-    print(f"  target: under 600 s wall -> {'met' if wall < 600 else 'NOT met'}")
+    print(f"  peak load {res.peak_load:.2f} N at {res.deflection_at_peak / MM:.3f} mm")
+    return {"steps": steps, "wall": wall}
+
+
+def seed_resolution(steps: int, full: bool) -> None:
+    print(f"3. seed resolution, node spacing {SEED_SPACING_MM} mm:")
+    scene = tis_panel(5, 2.5)
+    if full:
+        wall0 = time.perf_counter()
+        disc = dict(CONVERGED, node_spacing_mm=SEED_SPACING_MM)
+        run_panel(5, 2.5, tis_panel_k_def(5), disc)
+        print(f"  full run: {time.perf_counter() - wall0:.1f} s wall (target 600 s)")
+        return
+    for parallel in (False, True):
+        wall0 = time.perf_counter()
+        settings = ExplicitSettings(k_n=tis_panel_k_def(5), node_spacing=SEED_SPACING_MM * MM,
+                                    parallel=parallel)  # fmt: skip
+        model = ExplicitModel(scene, settings, scene.meta["central_block"], 1.25 * MM)
+        setup = time.perf_counter() - wall0
+        nodes = model.nodes.n_nodes + len(model.indenter.block)
+        model.advance(5)  # compile
+        wall, cpu = clock(lambda model=model: model.advance(SEED_STEPS), 1)
+        per_step = wall / SEED_STEPS
+        print(
+            f"  parallel={parallel!s:5} set-up {setup:.1f} s, {nodes} nodes, "
+            f"{model.n_entries} entries: {per_step * 1e3:.1f} ms/step wall "
+            f"({cpu / wall:.2f} CPU/wall), {per_step / nodes * 1e9:.1f} ns/node/step; "
+            f"projected run of {steps} steps: {setup + per_step * steps:.0f} s wall "
+            f"(target 600 s; a projection, not a run)"
+        )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--quick", action="store_true", help="coarse full run")
+    parser.add_argument("--seed-full", action="store_true", help="run the seed resolution")
+    args = parser.parse_args()
+    print(f"load average {os.getloadavg()} on {os.cpu_count()} cores (shared machine)")
+    print_step_costs((1.0, 0.5, 0.25))
+    run = full_run(QUICK if args.quick else CONVERGED)
+    seed_resolution(run["steps"], args.seed_full)
+    print(f"load average at the end {os.getloadavg()}")
 
 
 if __name__ == "__main__":

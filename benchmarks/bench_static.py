@@ -1,13 +1,19 @@
-"""Speed of the static DEM (seed 001 masonry): one Table 2 specimen, and scaling in size.
+"""Speed and round-off robustness of the static DEM (seed 001 masonry).
 
-Run ``python benchmarks/bench_static.py [--quick]``. Prints
+Run ``python benchmarks/bench_static.py [--quick] [--table2] [--kernels] [--walls S15,S13]``.
+Prints
 
-1. the wall time of one Restrepo-Velez specimen (S11, about 300 blocks) to collapse for each
-   interface law and return-wall model, against the target of 10 s on 2 cores;
-2. the stability target: lambda_max of S11 with the load step halved and doubled (1 %);
-3. a scaling table from 100 to 10,000 blocks (free-standing running-bond walls, resultant and
-   fibre laws): set-up (interfaces, H blocks), one evaluation of the interface law plus the
-   stiffness assembly, one sparse factorisation of the tangent, and a full collapse run up to
+1. ``--table2``: every Table 2 wall (Restrepo-Velez specimens) to collapse with both interface
+   laws and both return-wall models: wall time against the target of 10 s, lambda, termination
+   (a run that did not collapse prints its termination, never a lambda);
+2. ``--kernels``: the same runs (with the validation case's settings) repeated in
+   subprocesses under the OpenBLAS kernels ``OPENBLAS_CORETYPE = Haswell, SkylakeX,
+   Sandybridge`` (the CPU must support each: AVX2, AVX-512, AVX), and the spread of lambda
+   across them (target 1 %); ``python -m validation run masonry-restrepo-kernels`` records it;
+3. by default: S11 to collapse for each law and return-wall model, lambda_max of S11 with the
+   load step halved and doubled (1 %), and a scaling table from 100 to 10,000 blocks
+   (free-standing running-bond walls): set-up, one evaluation of the interface law plus the
+   stiffness assembly, one sparse factorisation, and a full collapse run up to
    ``--collapse-max`` blocks; times per block in microseconds.
 
 Times are wall-clock on a shared machine: compare ratios within one run.
@@ -20,31 +26,78 @@ import math
 import time
 
 from dem.scenes.running_bond_wall import running_bond_wall
-from dem.scenes.seed001_walls import SPECIMENS, restrepo_specimen
-from dem.static import StaticSettings, _factor, _Model, _newton_dead, solve_collapse
+from dem.scenes.seed001_walls import RESTREPO_NAMES, SPECIMENS, restrepo_specimen
+from dem.static import StaticSettings, solve_collapse
+from dem.static.model import Model
+from dem.static.newton import Corrector, factor, solve_dead_load
 
 TARGET_S = 10.0
+LAWS = ("resultant", "fibre")
+VARIANTS = ("fixed_column", "blocks")
 
 
-def specimen(quick: bool) -> None:
-    print("== one Table 2 specimen to collapse (target < 10 s) ==")
-    variants = [("fibre", "blocks"), ("resultant", "fixed_column")]
-    if not quick:
-        variants += [("fibre", "fixed_column"), ("resultant", "blocks")]
-    spec = SPECIMENS["restrepo-S11"]
-    for model, variant in variants:
-        scene = restrepo_specimen("S11", variant)
-        settings = StaticSettings(interface_model=model, on_failure="return")
-        solve_collapse(scene, StaticSettings(interface_model=model, max_steps=2))  # compile
-        start = time.perf_counter()
-        result = solve_collapse(scene, settings)
-        wall = time.perf_counter() - start
-        print(
-            f"S11 {model:9s} {variant:12s} blocks {scene.n_blocks:4d}  lambda_max "
-            f"{result.lambda_max:.4f} (test {spec.reference})  steps {result.n_steps:4d} "
-            f"iterations {result.n_iterations:5d}  {wall:6.2f} s  "
-            f"{'OK' if wall < TARGET_S else 'over target'}"
-        )
+def run_wall(name: str, model: str, variant: str) -> dict:
+    """One Table 2 wall to collapse: lambda (None if no collapse), termination, wall time."""
+    spec = SPECIMENS[f"restrepo-{name}"]
+    scene = spec.build() if spec.supports == "base+beams" else spec.build(return_walls=variant)
+    settings = StaticSettings(interface_model=model, mu=spec.joint.mu, on_failure="return")
+    start = time.perf_counter()
+    result = solve_collapse(scene, settings)
+    return {
+        "name": name,
+        "model": model,
+        "variant": variant,
+        "lam": result.lambda_max if result.collapsed else None,
+        "termination": result.termination,
+        "steps": result.n_steps,
+        "wall_s": time.perf_counter() - start,
+    }
+
+
+def table2_runs(names) -> list[tuple[str, str, str]]:
+    runs = []
+    for name in names:
+        beams = SPECIMENS[f"restrepo-{name}"].supports == "base+beams"
+        for variant in ("none",) if beams else VARIANTS:
+            runs += [(name, model, variant) for model in LAWS]
+    return runs
+
+
+def _line(r: dict) -> str:
+    lam = "no collapse" if r["lam"] is None else f"{r['lam']:.4f}"
+    ok = "OK" if r["wall_s"] <= TARGET_S else "over target"
+    return (
+        f"{r['name']:9s} {r['model']:9s} {r['variant']:12s} lambda {lam:>11s} "
+        f"{r['termination']:10s} steps {r['steps']:4d} {r['wall_s']:7.2f} s  {ok}"
+    )
+
+
+def table2(names) -> None:
+    print("== every Table 2 wall to collapse (target <= 10 s per wall) ==")
+    solve_collapse(
+        restrepo_specimen("S15", "fixed_column"), StaticSettings(max_steps=2, on_failure="return")
+    )
+    for run in table2_runs(names):
+        print(_line(run_wall(*run)), flush=True)
+
+
+def kernels(names) -> None:
+    """The spread of lambda across OpenBLAS kernels: the ``masonry-restrepo-kernels`` case's
+    subprocess per kernel (:mod:`validation.cases.masonry`), on the walls ``names``."""
+    from validation.cases.masonry import KERNELS, _run_under_kernel
+
+    print(f"== lambda under the OpenBLAS kernels {', '.join(KERNELS)} (target 1 %) ==")
+    for run in table2_runs(names):
+        out = [_run_under_kernel(kernel, *run, quick=False) for kernel in KERNELS]
+        lams = [r["lam"] for r in out]
+        terms = "/".join(r["termination"] for r in out)
+        if all(lam is not None for lam in lams):
+            spread = (max(lams) - min(lams)) / min(lams)
+            values = " / ".join(f"{lam:.5f}" for lam in lams)
+            verdict = "OK" if spread <= 0.01 else "over target"
+            print(f"{' '.join(run):34s} {values}  spread {spread:.2%}  {terms}  {verdict}")
+        else:
+            print(f"{' '.join(run):34s} not every run collapsed: {terms}")
 
 
 def stability(quick: bool) -> None:
@@ -77,22 +130,23 @@ def scaling(sizes, collapse_max: int) -> None:
         n = max(2, int(round(math.sqrt(target / 2))))
         courses = max(2, int(round(target / n)))
         scene = running_bond_wall(n, courses, 81, 210, 70, 20, 0.7, live="weight")
-        for model in ("resultant", "fibre"):
+        for model in LAWS:
             settings = StaticSettings(interface_model=model)
             start = time.perf_counter()
-            m = _Model(scene, settings)
+            m = Model(scene, settings)
             setup = time.perf_counter() - start
-            u, _, _ = _newton_dead(m, settings)
+            dead, _ = solve_dead_load(Corrector(m, settings))
+            floor = settings.law_settings.tangent_floor
             reps = 3
             start = time.perf_counter()
             for _ in range(reps):
-                _, D, _, _, _ = m.evaluate(m.full(u))
+                D = m.evaluate(dead.u, floor).law.D
                 m.stiffness(D)
             law = (time.perf_counter() - start) / reps
-            A = m.stiffness(D, bordered=True)
+            A = m.stiffness(D, m.w)
             start = time.perf_counter()
             for _ in range(reps):
-                _factor(A)
+                factor(A)
             lu = (time.perf_counter() - start) / reps
             coll, lam, per = float("nan"), float("nan"), float("nan")
             if scene.n_blocks <= collapse_max:
@@ -111,8 +165,21 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer variants and sizes")
     parser.add_argument("--collapse-max", type=int, default=2000)
+    parser.add_argument("--table2", action="store_true", help="every Table 2 wall, both laws")
+    parser.add_argument("--kernels", action="store_true", help="spread across OpenBLAS kernels")
+    parser.add_argument("--walls", default=",".join(RESTREPO_NAMES), help="Table 2 walls")
     args = parser.parse_args(argv)
-    specimen(args.quick)
+    names = args.walls.split(",")
+    if args.table2:
+        table2(names)
+    if args.kernels:
+        kernels(names)
+    if args.table2 or args.kernels:
+        return
+    print("== S11 to collapse (target < 10 s) ==")
+    for model in LAWS:
+        for variant in VARIANTS:
+            print(_line(run_wall("S11", model, variant)), flush=True)
     stability(args.quick)
     sizes = (100, 300, 1000) if args.quick else (100, 300, 1000, 3000, 10000)
     scaling(sizes, args.collapse_max)

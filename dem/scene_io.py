@@ -35,6 +35,7 @@ __all__ = [
     "SceneSpec",
     "blocks_from_mesh",
     "blocks_from_surfaces",
+    "cell_groups",
     "checked_block",
     "read_scene",
 ]
@@ -119,6 +120,28 @@ def _read(path: str | Path):
         raise ValueError(f"{path}: meshio cannot read it ({exc})") from exc
 
 
+def cell_groups(mesh) -> dict[str, list[int]]:
+    """Named sets of 3D cells (gmsh physical groups, meshio ``cell_sets``) as block indices.
+
+    Block ``i`` is the ``i``-th 3D cell over all cell blocks, as in :func:`blocks_from_mesh`.
+    """
+    offsets, start = [], 0
+    for cb in mesh.cells:
+        offsets.append(start if cb.dim == 3 else None)
+        start += len(cb.data) if cb.dim == 3 else 0
+    groups = {}
+    for name, per_block in mesh.cell_sets.items():
+        ids = [
+            offsets[k] + int(i)
+            for k, local in enumerate(per_block)
+            if offsets[k] is not None and local is not None
+            for i in np.asarray(local).ravel()
+        ]
+        if ids and not name.startswith("gmsh:"):
+            groups[name] = sorted(ids)
+    return groups
+
+
 def blocks_from_mesh(path: str | Path) -> list[ConvexBlock]:
     """One convex block per 3D cell of a volume mesh (any format meshio reads).
 
@@ -128,7 +151,12 @@ def blocks_from_mesh(path: str | Path) -> list[ConvexBlock]:
         No 3D cell, a higher-order cell type, or a non-convex cell (named by its index over
         all 3D cells, its type and its corners).
     """
-    mesh = _read(path)
+    return blocks_of_mesh(_read(path), str(path))
+
+
+def blocks_of_mesh(mesh, label: str = "mesh") -> list[ConvexBlock]:
+    """:func:`blocks_from_mesh` of a mesh already read (``label`` names it in errors)."""
+    path = label
     cells = _cells(mesh)
     if not cells:
         raise ValueError(f"{path}: no 3D cells (tetra, wedge, hexahedron, ...) to make blocks of")
@@ -210,6 +238,8 @@ class SceneSpec:
         Blocks held fixed.
     fixed_below : float or None
         Also fix every block whose centroid lies below this height z [m].
+    fixed_groups : tuple of str
+        Also fix every block of these named cell groups (gmsh physical groups of a mesh).
     fixed_boxes : tuple of (6,) tuples
         Also fix every block whose centroid lies in a box ``(x0, y0, z0, x1, y1, z1)`` [m].
     gravity : (3,) tuple
@@ -227,6 +257,7 @@ class SceneSpec:
     mu: float | None = None
     fixed: tuple[int, ...] = ()
     fixed_below: float | None = None
+    fixed_groups: tuple[str, ...] = ()
     fixed_boxes: tuple[tuple[float, ...], ...] = ()
     gravity: tuple[float, float, float] = (0.0, 0.0, -G)
     live: tuple[float, float, float] | None = None
@@ -286,6 +317,7 @@ class SceneSpec:
             [supports]
             fixed = [0]             # block ids
             fixed_below = 0.05      # and every block with its centroid below z = 0.05 m
+            fixed_groups = ["foundation"]   # and the cells of a gmsh physical group
             fixed_boxes = [[-1, -1, -1, 1, 1, 0]]
             [loads]
             gravity = [0.0, 0.0, -9.81]
@@ -307,6 +339,7 @@ class SceneSpec:
             mu=mat.get("mu"),
             fixed=tuple(int(i) for i in sup.get("fixed", ())),
             fixed_below=sup.get("fixed_below"),
+            fixed_groups=tuple(str(g) for g in sup.get("fixed_groups", ())),
             fixed_boxes=tuple(tuple(float(c) for c in b) for b in sup.get("fixed_boxes", ())),
             gravity=tuple(loads.get("gravity", (0.0, 0.0, -G))),
             live=None if live is None else cls.direction(live),
@@ -314,8 +347,8 @@ class SceneSpec:
             name=data.get("name"),
         )
 
-    def fixed_mask(self, assembly: Assembly) -> np.ndarray:
-        """(n_blocks,) bool: the blocks this spec fixes."""
+    def fixed_mask(self, assembly: Assembly, groups: dict | None = None) -> np.ndarray:
+        """(n_blocks,) bool: the blocks this spec fixes (``groups``: name -> block ids)."""
         n = assembly.n_blocks
         ids = np.asarray(self.fixed, dtype=np.int64)
         if ids.size and (ids.min() < 0 or ids.max() >= n):
@@ -328,6 +361,13 @@ class SceneSpec:
         for box in self.fixed_boxes:
             lo, hi = np.array(box[:3]), np.array(box[3:])
             mask |= np.all((c >= lo) & (c <= hi), axis=1)
+        groups = groups or {}
+        for name in self.fixed_groups:
+            if name not in groups:
+                raise ValueError(
+                    f"fixed group {name!r} is not in the scene; its groups: {sorted(groups)}"
+                )
+            mask[np.asarray(groups[name], dtype=np.int64)] = True
         return mask
 
     def apply(self, scene: Scene) -> Scene:
@@ -335,7 +375,7 @@ class SceneSpec:
         a = scene.assembly
         if self.mu is not None:
             a = Assembly(a.blocks, a.density, self.mu)
-        fixed = scene.supports.fixed | self.fixed_mask(a)
+        fixed = scene.supports.fixed | self.fixed_mask(a, scene.meta.get("groups"))
         supports = Supports(fixed, scene.supports.restrained & ~fixed[:, None])
         dead, live = scene.loads.dead_wrench.copy(), scene.loads.live_wrench.copy()
         if self.live is not None:
@@ -390,8 +430,12 @@ def read_scene(
                 scene.meta,
             )
         return spec.apply(scene)
-    is_surface = path.is_dir() or path.suffix.lower() in SURFACE_SUFFIXES
-    blocks = blocks_from_surfaces(path) if is_surface else blocks_from_mesh(path)
+    groups: dict[str, list[int]] = {}
+    if path.is_dir() or path.suffix.lower() in SURFACE_SUFFIXES:
+        blocks = blocks_from_surfaces(path)
+    else:
+        mesh = _read(path)
+        blocks, groups = blocks_of_mesh(mesh, str(path)), cell_groups(mesh)
     if spec.density is None:
         raise ValueError(
             f"{path}: a mesh has no density; give it in the TOML ([material] density) or on the "
@@ -405,6 +449,6 @@ def read_scene(
         Supports.none(n),
         Loads(np.asarray(spec.gravity, dtype=float), zero, zero.copy()),
         spec.name or path.stem,
-        {"source": str(path)},
+        {"source": str(path), "groups": groups},
     )
     return spec.apply(scene)

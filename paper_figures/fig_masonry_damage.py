@@ -4,7 +4,7 @@ Reads only ``validation/results/masonry/*.npz`` and the scenes saved beside them
 ``masonry-*`` validation cases first) and writes ``paper_figures/out/fig_masonry_damage_*.png``
 with pyvista off screen: the blocks displaced by the collapse mechanism (exaggerated) and the
 interfaces coloured by state at collapse: green elastic, red shear (sliding / torsion),
-magenta flexural (rocking hinge), grey detached.
+magenta flexural (rocking hinge), blue crushed (compressive strength reached), grey detached.
 """
 
 from __future__ import annotations
@@ -19,13 +19,22 @@ os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
 RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
 RUNS = RESULTS / "masonry"
 OUT = Path(__file__).resolve().parent / "out"
-COLOURS = {"elastic": "green", "shear": "red", "flexural": "magenta", "detached": "lightgrey"}
+COLOURS = {
+    "elastic": "green",
+    "shear": "red",
+    "flexural": "magenta",
+    "crushed": "blue",
+    "detached": "lightgrey",
+}
 MAX_FIGURES = 20
 
 
 def _label(state: int) -> str:
+    # bits of dem.static's interface states: 1 shear, 2 flexure, 8 crushed; 4 detached
     if state == 4:
         return "detached"
+    if state & 8:
+        return "crushed"
     if state & 2:
         return "flexural"
     if state & 1:

@@ -7,11 +7,17 @@ and an explicit (symplectic Euler) time step chosen from the stiffness and masse
 
 Modules, one concern each:
 
-- :mod:`~dem.explicit.settings`: frozen settings of the solver and of each driver;
-- :mod:`~dem.explicit.model`: the scene prepared for dynamics (time step, neighbour list,
-  advance, relaxation);
+- :mod:`~dem.explicit.settings`: frozen settings of the solver and of the indentation driver;
+- :mod:`~dem.explicit.state`: the groups of arrays the kernels take (``Bodies``, ``Shapes``,
+  ``Nodes``, ``Law``, ``Scratch``, ``Indenter``) and ``ExplicitState``, what evolves (block
+  motion, neighbour list with its friction history, time): snapshots and checkpoints hold it;
+- :mod:`~dem.explicit.timestep`: highest frequency and stable time step;
+- :mod:`~dem.explicit.model`: the scene prepared for dynamics (nodes, neighbour list, advance,
+  relaxation, support check);
 - :mod:`~dem.explicit.indentation`: the sphere-indentation driver (seed 000) with checkpoints;
 - :mod:`~dem.explicit.lateral`: the tilting-table / live-load driver to collapse;
+- :mod:`~dem.explicit.stiffness`: ``k_n`` from the material and settings for masonry;
+- :mod:`~dem.explicit.checkpoint`: checkpoint files (``.npz`` plus JSON, no pickles);
 - :mod:`~dem.explicit.results`: result objects and post-processing.
 """
 

@@ -4,17 +4,18 @@ The scene is first relaxed under its dead load. Then the load multiplier ``lambd
 in steps: each step ramps the load at a slow rate to the next value and holds it, and the
 blocks are judged at the end of the hold (:class:`MotionCriteria`):
 
-- *stable*: every free block is at rest (speed below ``speed_tol``) and none moved more than
-  ``displacement_tol`` during the step;
-- *moving*: otherwise (a block still moves after ``max_hold``, or it moved more than
-  ``displacement_tol``).
+- *moving*: a block moved more than ``displacement_tol`` during the step (ramp and hold;
+  the hold goes on, up to ``max_hold``, while blocks are faster than ``speed_tol``);
+- *stable*: every block came to rest (speed below ``speed_tol``) first, or ``max_hold``
+  ended with every block below ``displacement_tol`` (vibration, elastic creep).
 
 On the first moving step the state of the last stable step is restored and the step is halved
 (``refinements`` times), so the bracket ``lambda_stable < lambda* <= lambda_moving`` closes to
 ``step / 2^refinements``. A block just past its threshold by ``epsilon`` in ``lambda``
-accelerates at about ``g epsilon``; it is seen as moving when ``g epsilon hold > speed_tol``, so
-the bracket can sit above ``lambda*`` by at most ``speed_tol / (g hold)`` (stated in the
-result as ``detection_lambda``).
+accelerates at about ``(1 - c) g epsilon`` with ``c`` the local damping; it keeps moving while
+held (its speed grows past ``speed_tol``) and travels ``displacement_tol`` within the longest
+hold ``T = max_hold hold`` if ``epsilon > 2 displacement_tol / ((1 - c) g T^2)``: the bracket can
+sit above ``lambda*`` by at most that (``detection_lambda`` in the result).
 
 Load patterns (:class:`TiltingTable`, :class:`LiveLoadRamp`) say what ``lambda`` means:
 
@@ -26,9 +27,10 @@ Load patterns (:class:`TiltingTable`, :class:`LiveLoadRamp`) say what ``lambda``
 - Live load: the dead load plus ``lambda`` times the scene's live pattern
   ``scene.loads.live_wrench``.
 
-Global viscous damping is switched off during loading by default: mass-proportional damping
-resists rigid-body motion itself (a sliding block would creep at ``a / alpha``) and would hide
-the mechanism; the contact dashpots damp the contact vibrations.
+The default settings (:func:`dem.explicit.stiffness.masonry_settings`) switch global viscous
+damping off: mass-proportional damping resists rigid-body motion itself (a sliding block would
+creep at ``a / alpha``) and would hide the mechanism. Local damping damps the vibrations
+instead; it slows a mechanism but does not stop it.
 """
 
 from __future__ import annotations
@@ -63,11 +65,13 @@ class MotionCriteria:
         ``|v| + |omega| R`` (the fastest point of its bounding sphere). Default 1e-3.
     displacement_fraction : float
         ``displacement_tol = displacement_fraction size`` [m]; a block's displacement is
-        ``|c - c_0| + R angle`` (the farthest point). Default 1e-3.
+        ``|c - c_0| + R angle`` (the farthest point). Default 5e-2: above the elastic
+        deflection of a load step (soft joints bend a 1 m wall by about 1 mm per step of 0.05,
+        and it creeps on during the hold), so that a mechanism is told from deformation.
     """
 
     speed_fraction: float = 1e-3
-    displacement_fraction: float = 1e-3
+    displacement_fraction: float = 5e-2
 
     def __post_init__(self):
         for name in ("speed_fraction", "displacement_fraction"):
@@ -85,12 +89,12 @@ class _Schedule:
     step : float
         First increment of ``lambda``; default 0.05.
     hold : float or None
-        Hold at each value [s]; None: ``2 sqrt(H / g)`` with ``H`` the height of the free
-        blocks (a few periods of the slowest rigid-body motion).
+        Hold at each value [s]; None: ``2 sqrt(size / g)`` with ``size`` the median block size
+        of :class:`MotionCriteria` (the time a block-sized motion needs to show).
     ramp : float or None
         Time to ramp from one value to the next [s]; None: ``hold``.
     max_hold : float
-        Longest hold, as a multiple of ``hold``, while blocks have not come to rest; default 3.
+        Longest hold, as a multiple of ``hold``, while blocks have not come to rest; default 8.
     max_lambda : float
         Stop without collapse at this multiplier; default 1.
     refinements : int
@@ -101,15 +105,14 @@ class _Schedule:
     step: float = 0.05
     hold: float | None = None
     ramp: float | None = None
-    max_hold: float = 3.0
+    max_hold: float = 8.0
     max_lambda: float = 1.0
     refinements: int = 4
     criteria: MotionCriteria = MotionCriteria()
 
     def __post_init__(self):
-        positive = {"step": self.step, "max_lambda": self.max_lambda}
-        positive.update({k: v for k, v in (("hold", self.hold), ("ramp", self.ramp)) if v})
-        for name, value in positive.items():
+        for name in ("step", "max_lambda"):
+            value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be finite and positive, got {value}")
         for name in ("hold", "ramp"):
@@ -182,6 +185,9 @@ class LiveLoadRamp(_Schedule):
 
 
 _EZ = np.array([0.0, 0.0, 1.0])
+DEVELOP_FACTOR = 4.0
+"""Once bracketed, the mechanism is followed until a block has moved this many displacement
+thresholds; the blocks past one threshold are the moving blocks."""
 
 
 def simulate_lateral(
@@ -196,8 +202,9 @@ def simulate_lateral(
     ----------
     scene : Scene
     settings : ExplicitSettings, optional
-        Default :func:`dem.explicit.stiffness.masonry_settings` (``k_n = E / L`` from the
-        blocks, nodes reaching the block edges, no global damping).
+        Default :func:`dem.explicit.stiffness.masonry_settings` (``k_n`` from ``E / L`` of the
+        blocks in series with the joint stiffness, nodes reaching the block edges, local
+        damping instead of global damping).
     driver : TiltingTable or LiveLoadRamp, optional
         Default ``TiltingTable()``.
     relaxation : RelaxationSettings, optional
@@ -226,6 +233,7 @@ def simulate_lateral(
         lambda_stable=outcome["lambda_stable"],
         lambda_moving=outcome["lambda_moving"],
         moving_blocks=outcome["moving_blocks"],
+        mechanism_confirmed=outcome["mechanism_confirmed"],
         record_lambda=np.asarray(run.rec_lambda),
         record_displacement=np.asarray(run.rec_disp),
         record_time=np.asarray(run.rec_time),
@@ -260,13 +268,15 @@ class _RampHold:
         free = model.free_blocks
         g = float(np.linalg.norm(scene.loads.gravity)) or 9.81
         size = float(np.median(np.cbrt(scene.assembly.volume[free])))
-        height = float(np.ptp(scene.assembly.arrays.vertices[:, 2])) or size
         crit = driver.criteria
         self.speed_tol = crit.speed_fraction * math.sqrt(g * size)
         self.disp_tol = crit.displacement_fraction * size
-        self.hold = driver.hold if driver.hold is not None else 2.0 * math.sqrt(height / g)
+        self.hold = driver.hold if driver.hold is not None else 2.0 * math.sqrt(size / g)
         self.ramp = driver.ramp if driver.ramp is not None else self.hold
-        self.detection_lambda = self.speed_tol / (g * self.hold)
+        # near the threshold a block accelerates at (1 - local damping) g epsilon
+        slowed = 1.0 - model.settings.local_damping
+        longest = driver.max_hold * self.hold
+        self.detection_lambda = 2.0 * self.disp_tol / (slowed * g * longest**2)
         self.ref_pos = model.pos.copy()
         self.ref_quat = model.quat.copy()
         self.rec_lambda, self.rec_disp, self.rec_time, self.rec_stable = [], [], [], []
@@ -298,17 +308,51 @@ class _RampHold:
                 lam_moving, moving_blocks = target, moving
                 if halvings < driver.refinements:
                     self.model.restore(saved)
+        confirmed = False
+        if math.isfinite(lam_moving):
+            moving_blocks, confirmed = self._develop(lam, lam_moving, redo=stable)
         return {
+            "mechanism_confirmed": confirmed,
             "collapsed": math.isfinite(lam_moving),
             "lambda_stable": lam,
             "lambda_moving": lam_moving,
             "moving_blocks": moving_blocks,
         }
 
+    def _develop(self, lam: float, lam_moving: float, redo: bool) -> tuple[np.ndarray, bool]:
+        """Follow the motion at ``lam_moving`` until a block has moved ``DEVELOP_FACTOR``
+        displacement thresholds (at most ``2 max_hold`` holds); returns the
+        blocks that moved more than the threshold or still move faster than ``speed_tol``.
+
+        ``redo``: the model is at the last stable step, so ramp to ``lam_moving`` again first.
+        """
+        if redo:
+            self._step(lam, lam_moving)
+        start_pos, start_quat = self.step_start
+        model = self.model
+        n_check = max(1, round(0.25 * self.hold / model.dt))
+        n_max = round(2.0 * self.driver.max_hold * self.hold / model.dt)
+        done = 0
+        disp = model.block_displacement(start_pos, start_quat)
+        while disp.max() < DEVELOP_FACTOR * self.disp_tol and done < n_max:
+            self._advance(n_check)
+            done += n_check
+            disp = model.block_displacement(start_pos, start_quat)
+        self._record(lam_moving, False)
+        moving = (disp > self.disp_tol) | (model.block_speed() > self.speed_tol)
+        confirmed = bool(disp.max() >= DEVELOP_FACTOR * self.disp_tol)
+        if not confirmed:
+            logger.warning(
+                "lambda=%.4g: no block moved %g displacement thresholds while the motion was "
+                "followed; the mechanism is not confirmed", lam_moving, DEVELOP_FACTOR,
+            )  # fmt: skip
+        return np.flatnonzero(moving).astype(np.int64), confirmed
+
     def _step(self, lam0: float, lam1: float) -> tuple[bool, np.ndarray]:
         """Ramp from ``lam0`` to ``lam1`` and hold; (stable, moving blocks)."""
         model = self.model
         start_pos, start_quat = model.pos.copy(), model.quat.copy()
+        self.step_start = (start_pos, start_quat)
         n_ramp = max(1, round(self.ramp / model.dt))
         chunk = max(1, min(model.settings.chunk_steps, n_ramp))
         done = 0
@@ -320,20 +364,25 @@ class _RampHold:
             done += n
         n_hold = max(1, round(self.hold / model.dt))
         self._advance(n_hold)
+        # while blocks are faster than speed_tol, hold on (up to max_hold) until they stop or
+        # one has moved past the displacement threshold: elastic creep and vibration stop or
+        # stay below it, a mechanism does not
         extra, n_max = 0, round((self.driver.max_hold - 1.0) * n_hold)
         while True:
-            disp = model.block_displacement(start_pos, start_quat)
-            speed = model.block_speed()
-            moved = disp > self.disp_tol
-            fast = speed > self.speed_tol
-            if np.any(moved) or extra >= n_max:
-                break
+            moved = model.block_displacement(start_pos, start_quat) > self.disp_tol
+            if np.any(moved):
+                return False, np.flatnonzero(moved).astype(np.int64)
+            fast = model.block_speed() > self.speed_tol
             if not np.any(fast):
                 return True, np.zeros(0, dtype=np.int64)
-            n = min(n_hold, n_max - extra)
+            if extra >= n_max:
+                logger.info("lambda=%.4g: blocks %s still move after max_hold but less than "
+                            "the displacement threshold: stable", lam1,
+                            np.flatnonzero(fast)[:10].tolist())  # fmt: skip
+                return True, np.zeros(0, dtype=np.int64)
+            n = min(max(1, n_hold // 4), n_max - extra)
             self._advance(n)
             extra += n
-        return False, np.flatnonzero(moved | fast).astype(np.int64)
 
     def _advance(self, n: int) -> None:
         self.model.advance(n)

@@ -43,7 +43,6 @@ from dem.kernels.broadphase import build_pairs, carry_history
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
     MU_RULE_MIN,
-    accumulate_wrenches,
     elastic_energy,
     node_contacts,
     sphere_contacts,
@@ -335,7 +334,8 @@ class ExplicitModel:
 
     # -- forces ------------------------------------------------------------------------------
     def evaluate_contacts(self) -> Scratch:
-        """Every entry's force, point and depth at the current state (state unchanged)."""
+        """Every entry's force, point and depth, and the blocks' contact wrenches, at the
+        current state (state unchanged)."""
         scratch = Scratch.empty(self.n_blocks, self.n_entries)
         quat_to_rot(self.quat, scratch.rot)
         contacts = self.state.contacts._replace(shear=self.state.contacts.shear.copy())
@@ -361,9 +361,6 @@ class ExplicitModel:
             Force of the indenter on each indenter node's block [N].
         """
         sc = self.evaluate_contacts()
-        contacts = self.state.contacts
-        accumulate_wrenches(contacts.node, contacts.block, self.surface.block, self.pos,
-                            sc.out_force, sc.out_point, sc.force, sc.torque)  # fmt: skip
         ind = np.zeros((len(self.indenter.block), 3))
         if sphere is not None:
             centre, radius, velocity = sphere
@@ -416,7 +413,8 @@ class ExplicitModel:
         left = int(n_steps)
         while left > 0:
             done, status, self.state.t = run_steps(
-                left, self.dt, self.state.t, alpha, self.parallel, self.bodies, self.shapes,
+                left, self.dt, self.state.t, alpha, self.settings.local_damping, self.parallel,
+                self.bodies, self.shapes,
                 self.surface, self.law, self.state.motion, self.state.contacts, self.scratch,
                 sphere, acc,
             )  # fmt: skip

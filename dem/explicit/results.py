@@ -70,7 +70,12 @@ class LateralResult:
     lambda_moving : float
         First multiplier at which a block kept moving; NaN if none.
     moving_blocks : (k,) int64
-        Blocks moving at ``lambda_moving``.
+        Blocks moving at ``lambda_moving`` once the motion was followed (displaced more than
+        ``displacement_tol`` or faster than ``speed_tol``).
+    mechanism_confirmed : bool
+        The motion at ``lambda_moving`` grew to several displacement thresholds when followed
+        (False: a slow motion that may still stop; ``lambda_moving`` is then an upper end
+        found by speed alone).
     record_lambda : (r,) float
         Multiplier at the end of each ramp-and-hold step, in the order run (bisection trials
         included).
@@ -81,8 +86,9 @@ class LateralResult:
     record_stable : (r,) bool
         Whether that step ended at rest.
     detection_lambda : float
-        Largest overshoot of the bracket above the true threshold that the speed threshold
-        allows, ``speed_tol / (g hold)``.
+        Largest overshoot of the bracket above the true threshold that the motion criteria
+        allow, ``2 displacement_tol / ((1 - c) g T^2)`` with ``c`` the local damping and ``T``
+        the longest hold (see :mod:`dem.explicit.lateral`).
     speed_tol, displacement_tol : float
         The motion thresholds [m/s], [m].
     wall_s : float
@@ -96,6 +102,7 @@ class LateralResult:
     lambda_stable: float
     lambda_moving: float
     moving_blocks: np.ndarray
+    mechanism_confirmed: bool
     record_lambda: np.ndarray
     record_displacement: np.ndarray
     record_time: np.ndarray

@@ -77,6 +77,10 @@ class ExplicitSettings:
     contact_damping : float
         Stiffness-proportional normal dashpot as a damping ratio at ``omega_max``
         (``beta = 2 contact_damping / omega_max``); default 0.1.
+    local_damping : float
+        Local (non-viscous) damping coefficient in [0, 1) (Cundall's, as in 3DEC and PFC; see
+        :mod:`dem.kernels.integrate`): damps vibrations of every mode without resisting
+        steady motion. Default 0 (off).
     parallel : bool or None
         Evaluate contact entries in parallel (``prange`` over chunks of entries); None: when
         there are at least ``PARALLEL_MIN_ENTRIES`` entries and more than one core. Default
@@ -104,6 +108,7 @@ class ExplicitSettings:
     mass_scaling: float = 1.0
     global_damping: float = 0.02
     contact_damping: float = 0.1
+    local_damping: float = 0.0
     parallel: bool | None = False
     chunk_steps: int = 200
     progress_every_s: float = 10.0
@@ -145,6 +150,8 @@ class ExplicitSettings:
             raise ValueError(
                 f"signed_distance must be 'planes' or 'level_set', got {self.signed_distance!r}"
             )
+        if not (math.isfinite(self.local_damping) and 0 <= self.local_damping < 1):
+            raise ValueError(f"local_damping must be in [0, 1), got {self.local_damping}")
         if self.dt_safety > 1:
             raise ValueError(f"dt_safety must be <= 1, got {self.dt_safety}")
         if int(self.chunk_steps) != self.chunk_steps or self.chunk_steps < 1:

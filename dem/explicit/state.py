@@ -201,6 +201,12 @@ class Scratch(NamedTuple):
         Force of each entry on its node's block [N] and its point [m].
     out_depth : (m,) float64
         Penetration of each entry [m] (negative: separation).
+    skip_gap, skip_drift : (m,) float64
+        Separation of an entry when last evaluated, and ``drift[a] + drift[b]`` then [m]
+        (0: evaluate); see :func:`dem.kernels.contact_force.contact_entries`.
+    drift : (n,) float64
+        Bound on the distance any point of each block has moved since the scratch was made
+        (accumulated every step) [m].
     """
 
     rot: np.ndarray
@@ -209,12 +215,17 @@ class Scratch(NamedTuple):
     out_force: np.ndarray
     out_point: np.ndarray
     out_depth: np.ndarray
+    skip_gap: np.ndarray
+    skip_drift: np.ndarray
+    drift: np.ndarray
 
     @classmethod
     def empty(cls, n_blocks: int, n_entries: int) -> Scratch:
+        """Zeros: every entry is evaluated at the next step."""
         return cls(
             np.zeros((n_blocks, 3, 3)), np.zeros((n_blocks, 3)), np.zeros((n_blocks, 3)),
             np.zeros((n_entries, 3)), np.zeros((n_entries, 3)), np.zeros(n_entries),
+            np.zeros(n_entries), np.zeros(n_entries), np.zeros(n_blocks),
         )  # fmt: skip
 
 

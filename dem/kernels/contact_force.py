@@ -18,13 +18,15 @@ force on block ``a`` at ``x`` is (``-F`` acts on ``b`` at the same point)::
   no static/kinetic distinction). ``k_t`` [Pa/m] is a shear traction per displacement.
 
 The per-item law is :func:`traction_one` (scalars only); :func:`contact_entries` evaluates a
-range of entries and writes only their rows, so :func:`node_contacts_parallel` can split the
-entries into chunks with ``prange``; :func:`accumulate_wrenches` then sums the rows into block
-forces and moments serially (deterministic order, so runs are reproducible).
+range of entries, writes only their rows and adds their wrenches to the block forces and
+moments it is given, in entry order: :func:`node_contacts` passes the step's totals (one
+pass over the entries), :func:`node_contacts_parallel` one buffer per ``prange`` chunk, added
+in chunk order afterwards (deterministic, so runs are reproducible).
 """
 
 import math
 
+import numpy as np
 from numba import njit, prange
 
 from dem.kernels.signed_distance import convex_sdf_one, level_set_sdf_one
@@ -115,8 +117,11 @@ def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, bet
 
 
 @njit(cache=True)
-def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law, dt, scratch):
-    """Forces of entries ``e_begin:e_end``; updates their shear and writes their output rows.
+def contact_entries(
+    e_begin, e_end, nodes, contacts, motion, bodies, shapes, law, dt, scratch, force, torque
+):
+    """Forces of entries ``e_begin:e_end``: updates their shear, writes their output rows and
+    adds their wrenches to ``force`` and ``torque``.
 
     Parameters
     ----------
@@ -145,7 +150,23 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
     scratch : Scratch
         ``rot`` (n, 3, 3) rotations of the current poses (input); ``out_force``,
         ``out_point`` (m, 3): force on the node's block [N] and its point [m];
-        ``out_depth`` (m,): penetration ``d`` [m] (negative: separation, lower bound).
+        ``out_depth`` (m,): penetration ``d`` [m] (negative: separation, lower bound);
+        ``skip_gap``, ``skip_drift`` (m,) and ``drift`` (n,) [m]: see Notes.
+    force, torque : (n, 3) float64
+        Accumulated in place: each entry's force on its node's block [N] and its negative on
+        the neighbour, with their moments about the centroids [N m], in entry order.
+
+    Notes
+    -----
+    Separated entries are skipped while they cannot touch. With face planes, a node at plane
+    distance ``phi > 0`` outside ``b`` must move by at least ``phi`` relative to ``b`` before
+    it can penetrate. ``drift[k]`` accumulates a bound on how far any point of block ``k``
+    within the list's reach has moved (:func:`dem.kernels.integrate.run_steps`); an entry found
+    separated stores ``skip_gap = phi`` and ``skip_drift = drift[a] + drift[b]`` and is not
+    evaluated again until ``drift[a] + drift[b] - skip_drift >= skip_gap``. Its force and
+    shear history are zero meanwhile, as an evaluation would give: the result is exactly that
+    of evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated
+    values). Level sets are not a distance bound: no skipping there.
     """
     pair_node, pair_block, pair_weight = contacts.node, contacts.block, contacts.weight
     pair_shear = contacts.shear
@@ -158,10 +179,14 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
     k_n, k_t, beta, mu_rule = law.k_n, law.k_t, law.beta, law.mu_rule
     compat_cos, edge_tol = law.compat_cos, law.edge_tol
     out_force, out_point, out_depth = scratch.out_force, scratch.out_point, scratch.out_depth
+    skip_gap, skip_drift, drift = scratch.skip_gap, scratch.skip_drift, scratch.drift
     for e in range(e_begin, e_end):
         i = pair_node[e]
         b = pair_block[e]
         a = node_block[i]
+        gap = skip_gap[e]
+        if gap > 0.0 and drift[a] + drift[b] - skip_drift[e] < gap:
+            continue  # still separated: its force and shear history are zero (see Notes)
         r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
         rx = rot[a, 0, 0] * r0x + rot[a, 0, 1] * r0y + rot[a, 0, 2] * r0z
         ry = rot[a, 1, 0] * r0x + rot[a, 1, 1] * r0y + rot[a, 1, 2] * r0z
@@ -233,7 +258,11 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
             out_force[e, 0] = 0.0
             out_force[e, 1] = 0.0
             out_force[e, 2] = 0.0
+            if phi > 0.0 and not use_level_set:
+                skip_gap[e] = phi
+                skip_drift[e] = drift[a] + drift[b]
             continue
+        skip_gap[e] = 0.0
         n0 = rot[b, 0, 0] * g0 + rot[b, 0, 1] * g1 + rot[b, 0, 2] * g2
         n1 = rot[b, 1, 0] * g0 + rot[b, 1, 1] * g1 + rot[b, 1, 2] * g2
         n2 = rot[b, 2, 0] * g0 + rot[b, 2, 1] * g1 + rot[b, 2, 2] * g2
@@ -253,60 +282,52 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
         pair_shear[e, 1] = s1
         pair_shear[e, 2] = s2
         area = node_area[i] * pair_weight[e]
-        out_force[e, 0] = t0 * area
-        out_force[e, 1] = t1 * area
-        out_force[e, 2] = t2 * area
+        f0, f1, f2 = t0 * area, t1 * area, t2 * area
+        out_force[e, 0] = f0
+        out_force[e, 1] = f1
+        out_force[e, 2] = f2
+        add_wrench(force, torque, a, x0 - pos[a, 0], x1 - pos[a, 1], x2 - pos[a, 2], f0, f1, f2)
+        add_wrench(force, torque, b, dx, dy, dz, -f0, -f1, -f2)
+
+
+@njit(cache=True)
+def add_wrench(force, torque, k, r0, r1, r2, f0, f1, f2):
+    """``force[k] += f``, ``torque[k] += r x f`` (``r`` from block ``k``'s centroid)."""
+    force[k, 0] += f0
+    force[k, 1] += f1
+    force[k, 2] += f2
+    torque[k, 0] += r1 * f2 - r2 * f1
+    torque[k, 1] += r2 * f0 - r0 * f2
+    torque[k, 2] += r0 * f1 - r1 * f0
 
 
 @njit(cache=True)
 def node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch):
-    """Every entry, serially (arguments as :func:`contact_entries` without the range)."""
-    contact_entries(
-        0, contacts.node.shape[0], nodes, contacts, motion, bodies, shapes, law, dt, scratch
-    )
+    """Every entry, serially, adding to ``scratch.force`` and ``scratch.torque`` (arguments as
+    :func:`contact_entries`)."""
+    contact_entries(0, contacts.node.shape[0], nodes, contacts, motion, bodies, shapes, law, dt,
+                    scratch, scratch.force, scratch.torque)  # fmt: skip
 
 
 @njit(cache=True, parallel=True)
 def node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch):
-    """Every entry, in parallel chunks (``prange``); each chunk writes its own rows."""
+    """Every entry, in parallel chunks (``prange``): each chunk writes its own rows and sums its
+    wrenches in its own buffer; the buffers are added in chunk order (deterministic)."""
     m = contacts.node.shape[0]
+    n_blocks = scratch.force.shape[0]
     n_chunks = (m + ENTRY_CHUNK - 1) // ENTRY_CHUNK
+    chunk_force = np.zeros((n_chunks, n_blocks, 3))
+    chunk_torque = np.zeros((n_chunks, n_blocks, 3))
     for c in prange(n_chunks):
         contact_entries(
             c * ENTRY_CHUNK, min(m, (c + 1) * ENTRY_CHUNK), nodes, contacts, motion, bodies,
-            shapes, law, dt, scratch,
+            shapes, law, dt, scratch, chunk_force[c], chunk_torque[c],
         )  # fmt: skip
-
-
-@njit(cache=True)
-def accumulate_wrenches(
-    pair_node, pair_block, node_block, pos, out_force, out_point, force, torque
-):
-    """Add each entry's force to its node's block and its negative to the neighbour block.
-
-    Parameters
-    ----------
-    out_force, out_point : (m, 3) float64
-        Entry forces on the node's block [N] and their points [m].
-    force, torque : (n_blocks, 3) float64
-        Accumulated in place: forces [N] and moments about the centroids [N m].
-    """
-    for e in range(pair_node.shape[0]):
-        f0, f1, f2 = out_force[e, 0], out_force[e, 1], out_force[e, 2]
-        if f0 == 0.0 and f1 == 0.0 and f2 == 0.0:
-            continue
-        a = node_block[pair_node[e]]
-        b = pair_block[e]
-        for blk, sgn in ((a, 1.0), (b, -1.0)):
-            rx = out_point[e, 0] - pos[blk, 0]
-            ry = out_point[e, 1] - pos[blk, 1]
-            rz = out_point[e, 2] - pos[blk, 2]
-            force[blk, 0] += sgn * f0
-            force[blk, 1] += sgn * f1
-            force[blk, 2] += sgn * f2
-            torque[blk, 0] += sgn * (ry * f2 - rz * f1)
-            torque[blk, 1] += sgn * (rz * f0 - rx * f2)
-            torque[blk, 2] += sgn * (rx * f1 - ry * f0)
+    for c in range(n_chunks):
+        for k in range(n_blocks):
+            for j in range(3):
+                scratch.force[k, j] += chunk_force[c, k, j]
+                scratch.torque[k, j] += chunk_torque[c, k, j]
 
 
 @njit(cache=True)

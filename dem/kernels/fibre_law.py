@@ -10,7 +10,8 @@ each spring follows the elastic-perfectly-plastic Coulomb law of
 :func:`dem.kernels.spring_grid.spring_return_map_one`, and the interface actions are the
 resultants ``N = sum f_n``, ``V = sum f_t``, ``M1 = sum y2 f_n``, ``M2 = -sum y1 f_n``,
 ``M3 = sum (y1 f_t2 - y2 f_t1)``. Rocking, torsion and their interaction follow from the
-springs; no fitted exponent is needed.
+springs; no fitted exponent is needed. An optional compressive strength ``f_c`` caps each
+spring's normal force at ``-f_c a`` (crushing, with a plastic closure kept per spring).
 
 A spring whose tangential force lies on its Coulomb limit to within the relative
 ``KINK_BAND`` counts as sliding in the tangent (not only one beyond it), as in
@@ -30,6 +31,16 @@ STATE_ELASTIC = 0
 STATE_SHEAR = 1
 STATE_FLEXURE = 2
 STATE_DETACHED = 4
+STATE_CRUSHED = 8
+
+# columns of the per-interface parameter rows of the fibre law
+F_KN = 0  # normal stiffness per unit area [Pa/m]
+F_KS = 1  # tangential stiffness per unit area [Pa/m]
+F_MU = 2  # friction coefficient [-]
+F_COHESION = 3  # [Pa]
+F_TENSILE = 4  # tensile strength [Pa]
+F_FC = 5  # compressive strength [Pa]; inf for none
+N_FIBRE_PARAMS = 6
 
 
 @njit(cache=True)
@@ -47,23 +58,7 @@ def on_limit(f_n, f_1, f_2, mu, cohesion_force):
 
 @njit(cache=True)
 def fibre_law_one(
-    q,
-    lo,
-    hi,
-    positions,
-    areas,
-    slip,
-    is_broken,
-    k_n,
-    k_s,
-    mu,
-    cohesion,
-    tensile,
-    floor,
-    out_f,
-    out_slip,
-    out_broken,
-    out_D,
+    q, lo, hi, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
 ):
     """Return mapping of the springs of one interface, resultants and tangent.
 
@@ -73,28 +68,24 @@ def fibre_law_one(
         Relative motion ``(dn, dt1, dt2, phi1, phi2, phi3)`` [m, rad].
     lo, hi : int
         The interface's springs are ``lo:hi``.
-    positions : (n_springs, 2) float64
-        ``(y1, y2)`` about the interface centroid [m].
-    areas : (n_springs,) float64
-        Tributary areas [m^2].
-    slip : (n_springs, 2) float64
-        Plastic slips at the last converged state [m].
+    springs : (n_springs, 3) float64
+        ``(y1, y2)`` about the interface centroid [m] and tributary area [m^2].
+    params : (N_FIBRE_PARAMS,) float64
+        The interface's law, columns ``F_*``: stiffnesses per unit area [Pa/m], friction
+        coefficient [-], cohesion, tensile and compressive strength [Pa] (inf for none).
+    slip : (n_springs, 3) float64
+        Plastic slips and crushing closure at the last converged state [m].
     is_broken : (n_springs,) bool
         Springs that lost their tensile strength.
-    k_n, k_s : float
-        Stiffness per unit area [Pa/m].
-    mu : float
-        Friction coefficient [-].
-    cohesion, tensile : float
-        Cohesion and tensile strength [Pa].
     floor : float
-        Fraction of the elastic stiffness kept by open or sliding springs in the tangent.
-    out_f : (6,) float64
-        Output ``(N, V1, V2, M1, M2, M3)`` [N, N m].
-    out_slip : (n_springs, 2) float64
-        Output slips (only rows ``lo:hi`` are written).
+        Fraction of the elastic stiffness kept by open, sliding or crushed springs in the
+        tangent.
+    out_slip : (n_springs, 3) float64
+        Output slips and closures (only rows ``lo:hi`` are written).
     out_broken : (n_springs,) bool
         Output flags (rows ``lo:hi``).
+    out_f : (6,) float64
+        Output ``(N, V1, V2, M1, M2, M3)`` [N, N m].
     out_D : (6, 6) float64
         Output tangent ``df/dq`` (summed spring tangents).
 
@@ -103,7 +94,7 @@ def fibre_law_one(
     state : int
         ``STATE_DETACHED`` if every spring is open; else ``STATE_FLEXURE`` if open springs
         cover at least half the area, plus ``STATE_SHEAR`` if sliding springs cover at least
-        half the closed area.
+        half the closed area, plus ``STATE_CRUSHED`` if any spring is crushed.
     """
     for i in range(6):
         out_f[i] = 0.0
@@ -112,90 +103,19 @@ def fibre_law_one(
     area_open = 0.0
     area_slip = 0.0
     area_total = 0.0
-    bn = np.zeros(6)
-    b1 = np.zeros(6)
-    b2 = np.zeros(6)
+    crushed = False
     for s in range(lo, hi):
-        y1 = positions[s, 0]
-        y2 = positions[s, 1]
-        a = areas[s]
-        kn = k_n * a
-        ks = k_s * a
-        u_n = q[0] + q[3] * y2 - q[4] * y1
-        u_1 = q[1] - q[5] * y2
-        u_2 = q[2] + q[5] * y1
-        f_n, f_1, f_2, s1, s2, brk, st = spring_return_map_one(
-            u_n,
-            u_1,
-            u_2,
-            slip[s, 0],
-            slip[s, 1],
-            is_broken[s],
-            kn,
-            ks,
-            mu,
-            cohesion * a,
-            tensile * a,
+        code = spring_into(
+            q, s, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
         )
-        out_slip[s, 0] = s1
-        out_slip[s, 1] = s2
-        out_broken[s] = brk
+        a = springs[s, 2]
         area_total += a
-        # B rows: u_n, u_t1, u_t2 as linear functions of q
-        bn[:] = 0.0
-        b1[:] = 0.0
-        b2[:] = 0.0
-        bn[0] = 1.0
-        bn[3] = y2
-        bn[4] = -y1
-        b1[1] = 1.0
-        b1[5] = -y2
-        b2[2] = 1.0
-        b2[5] = y1
-        out_f[0] += f_n
-        out_f[1] += f_1
-        out_f[2] += f_2
-        out_f[3] += y2 * f_n
-        out_f[4] -= y1 * f_n
-        out_f[5] += y1 * f_2 - y2 * f_1
-        # spring tangent d(f_n, f_1, f_2)/d(u_n, u_1, u_2)
-        dnn = kn
-        d11 = ks
-        d22 = ks
-        d12 = 0.0
-        d1n = 0.0
-        d2n = 0.0
-        if st == STATUS_OPEN:
+        status = code & 3
+        if status == STATUS_OPEN:
             area_open += a
-            dnn = floor * kn
-            d11 = floor * ks
-            d22 = floor * ks
-        elif st == STATUS_SLIP or (
-            st == STATUS_STICK and on_limit(f_n, f_1, f_2, mu, 0.0 if brk else cohesion * a)
-        ):
+        elif status == STATUS_SLIP:
             area_slip += a
-            t1 = 0.0
-            t2 = 0.0
-            norm = np.hypot(f_1, f_2)
-            if norm > 0.0:
-                t1 = f_1 / norm
-                t2 = f_2 / norm
-            trial = ks * np.hypot(u_1 - slip[s, 0], u_2 - slip[s, 1])
-            ratio = min(norm / trial, 1.0) if trial > 0.0 else 0.0
-            d11 = ks * (ratio * (1.0 - t1 * t1) + floor)
-            d22 = ks * (ratio * (1.0 - t2 * t2) + floor)
-            d12 = -ks * ratio * t1 * t2
-            # the Coulomb limit grows with compression: f_t = (c - mu f_n) t
-            if norm > 0.0:
-                d1n = -mu * kn * t1
-                d2n = -mu * kn * t2
-        for r in range(6):
-            for c in range(6):
-                out_D[r, c] += (
-                    bn[r] * dnn * bn[c]
-                    + b1[r] * (d11 * b1[c] + d12 * b2[c] + d1n * bn[c])
-                    + b2[r] * (d12 * b1[c] + d22 * b2[c] + d2n * bn[c])
-                )
+        crushed = crushed or code >= 4
     if area_open >= area_total * (1.0 - 1e-12):
         return STATE_DETACHED
     state = STATE_ELASTIC
@@ -203,28 +123,108 @@ def fibre_law_one(
         state |= STATE_FLEXURE
     if area_slip >= 0.5 * (area_total - area_open):
         state |= STATE_SHEAR
+    if crushed:
+        state |= STATE_CRUSHED
     return state
 
 
 @njit(cache=True)
+def spring_into(q, s, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D):
+    """Return map of spring ``s``, its forces and tangent added to the interface's.
+
+    Arguments as :func:`fibre_law_one`. Returns the spring's status (``STATUS_STICK``,
+    ``STATUS_SLIP`` also for a sticking spring on its limit, ``STATUS_OPEN``) plus 4 if it
+    is crushed.
+    """
+    y1, y2, a = springs[s, 0], springs[s, 1], springs[s, 2]
+    kn = params[F_KN] * a
+    ks = params[F_KS] * a
+    mu = params[F_MU]
+    f_c = params[F_FC]
+    # normal motion net of the crushing closure; beyond the strength the spring crushes
+    u_n = q[0] + q[3] * y2 - q[4] * y1 - slip[s, 2]
+    closure = slip[s, 2]
+    is_crushed = kn * u_n < -f_c * a * (1.0 - KINK_BAND)
+    if is_crushed:
+        closure += u_n + f_c * a / kn
+        u_n = -f_c * a / kn
+    u_1 = q[1] - q[5] * y2
+    u_2 = q[2] + q[5] * y1
+    cohesion = params[F_COHESION] * a
+    f_n, f_1, f_2, s1, s2, brk, st = spring_return_map_one(
+        u_n, u_1, u_2, slip[s, 0], slip[s, 1], is_broken[s], kn, ks, mu, cohesion,
+        params[F_TENSILE] * a,
+    )  # fmt: skip
+    out_slip[s, 0] = s1
+    out_slip[s, 1] = s2
+    out_slip[s, 2] = closure
+    out_broken[s] = brk
+    out_f[0] += f_n
+    out_f[1] += f_1
+    out_f[2] += f_2
+    out_f[3] += y2 * f_n
+    out_f[4] -= y1 * f_n
+    out_f[5] += y1 * f_2 - y2 * f_1
+    # spring tangent d(f_n, f_1, f_2)/d(u_n, u_1, u_2)
+    dnn, d11, d22, d12, d1n, d2n = kn, ks, ks, 0.0, 0.0, 0.0
+    if st == STATUS_OPEN:
+        dnn, d11, d22 = floor * kn, floor * ks, floor * ks
+    elif st == STATUS_SLIP or (
+        st == STATUS_STICK and on_limit(f_n, f_1, f_2, mu, 0.0 if brk else cohesion)
+    ):
+        st = STATUS_SLIP
+        norm = np.hypot(f_1, f_2)
+        t1 = f_1 / norm if norm > 0.0 else 0.0
+        t2 = f_2 / norm if norm > 0.0 else 0.0
+        trial = ks * np.hypot(u_1 - slip[s, 0], u_2 - slip[s, 1])
+        ratio = min(norm / trial, 1.0) if trial > 0.0 else 0.0
+        d11 = ks * (ratio * (1.0 - t1 * t1) + floor)
+        d22 = ks * (ratio * (1.0 - t2 * t2) + floor)
+        d12 = -ks * ratio * t1 * t2
+        # the Coulomb limit grows with compression: f_t = (c - mu f_n) t
+        d1n = -mu * kn * t1
+        d2n = -mu * kn * t2
+    if is_crushed:
+        # the normal force stays at the strength, and with it the friction limit
+        dnn, d1n, d2n = floor * kn, 0.0, 0.0
+    add_spring_tangent(y1, y2, dnn, d11, d22, d12, d1n, d2n, out_D)
+    return st + (4 if is_crushed else 0)
+
+
+@njit(cache=True)
+def add_spring_tangent(y1, y2, dnn, d11, d22, d12, d1n, d2n, out_D):
+    """Add ``B^T T B`` of a spring at ``(y1, y2)`` to the interface tangent ``out_D`` (6, 6).
+
+    ``B`` maps ``q`` to ``(u_n, u_1, u_2)``: ``u_n = dn + phi1 y2 - phi2 y1``,
+    ``u_1 = dt1 - phi3 y2``, ``u_2 = dt2 + phi3 y1``; ``T`` the spring tangent
+    ``[[dnn, 0, 0], [d1n, d11, d12], [d2n, d12, d22]]`` (rows ``f_n, f_1, f_2``).
+    """
+    # columns of B that are nonzero: u_n at (0, 3, 4), u_1 at (1, 5), u_2 at (2, 5)
+    bn_idx = (0, 3, 4)
+    bn_val = (1.0, y2, -y1)
+    b1_idx = (1, 5)
+    b1_val = (1.0, -y2)
+    b2_idx = (2, 5)
+    b2_val = (1.0, y1)
+    for i in range(3):
+        for j in range(3):
+            out_D[bn_idx[i], bn_idx[j]] += bn_val[i] * dnn * bn_val[j]
+    for i in range(2):
+        r1, v1 = b1_idx[i], b1_val[i]
+        r2, v2 = b2_idx[i], b2_val[i]
+        for j in range(2):
+            out_D[r1, b1_idx[j]] += v1 * d11 * b1_val[j]
+            out_D[r1, b2_idx[j]] += v1 * d12 * b2_val[j]
+            out_D[r2, b1_idx[j]] += v2 * d12 * b1_val[j]
+            out_D[r2, b2_idx[j]] += v2 * d22 * b2_val[j]
+        for j in range(3):
+            out_D[r1, bn_idx[j]] += v1 * d1n * bn_val[j]
+            out_D[r2, bn_idx[j]] += v2 * d2n * bn_val[j]
+
+
+@njit(cache=True)
 def fibre_law(
-    q,
-    spring_ptr,
-    positions,
-    areas,
-    slip,
-    is_broken,
-    k_n,
-    k_s,
-    mu,
-    cohesion,
-    tensile,
-    floor,
-    out_f,
-    out_slip,
-    out_broken,
-    out_state,
-    out_D,
+    q, spring_ptr, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
 ):
     """Batch of :func:`fibre_law_one` over ``m`` interfaces.
 
@@ -232,36 +232,35 @@ def fibre_law(
     ----------
     q : (m, 6) float64
     spring_ptr : (m + 1,) int64
-    positions : (n_springs, 2) float64
-    areas : (n_springs,) float64
-    slip : (n_springs, 2) float64
+    springs : (n_springs, 3) float64
+    params : (m, N_FIBRE_PARAMS) float64
+    slip : (n_springs, 3) float64
     is_broken : (n_springs,) bool
-    k_n, k_s, mu, cohesion, tensile : (m,) float64
-        Per-interface law ([Pa/m], [-], [Pa]).
     floor : float
-    out_f : (m, 6) float64
-    out_slip : (n_springs, 2) float64
+    out_slip : (n_springs, 3) float64
     out_broken : (n_springs,) bool
-    out_state : (m,) int64
+    out_f : (m, 6) float64
     out_D : (m, 6, 6) float64
+
+    Returns
+    -------
+    state : (m,) int64
     """
-    for j in range(q.shape[0]):
-        out_state[j] = fibre_law_one(
+    m = q.shape[0]
+    state = np.empty(m, dtype=np.int64)
+    for j in range(m):
+        state[j] = fibre_law_one(
             q[j],
             spring_ptr[j],
             spring_ptr[j + 1],
-            positions,
-            areas,
+            springs,
+            params[j],
             slip,
             is_broken,
-            k_n[j],
-            k_s[j],
-            mu[j],
-            cohesion[j],
-            tensile[j],
             floor,
-            out_f[j],
             out_slip,
             out_broken,
+            out_f[j],
             out_D[j],
         )
+    return state

@@ -8,7 +8,12 @@ integrated, their contact forces are the support reactions)::
     omega += dt I_w^{-1} (T - omega x I_w omega),   q = exp(dt omega / 2) * q
 
 with ``I_w = R I_0 R^T`` the world inertia, ``alpha`` [1/s] the global (mass-proportional)
-damping rate and ``omega`` the world-frame angular velocity. Restrained single dofs (world
+damping rate and ``omega`` the world-frame angular velocity. Optional local (non-viscous)
+damping, as in Itasca's codes (Cundall 1987): each component of the unbalanced force and of
+the body-frame moment ``F_k`` is reduced by ``local_damping |F_k| sign(v_k)``; it opposes
+accelerations in the direction of motion and not steady motion, so it damps vibrations without
+the drag of viscous damping (a mechanism still accelerates, at ``1 - local_damping`` of its
+unbalanced force). Restrained single dofs (world
 axes) have their velocity component set to zero. Quaternions are ``(w, x, y, z)``, scalar first.
 ``m`` and ``I_0`` are the inertial (possibly mass-scaled) values; ``F_ext`` carries the true
 weight, so mass scaling changes inertia only.
@@ -21,7 +26,6 @@ from numba import njit
 
 from dem.kernels.broadphase import needs_rebuild
 from dem.kernels.contact_force import (
-    accumulate_wrenches,
     node_contacts,
     node_contacts_parallel,
     sphere_contacts,
@@ -74,7 +78,17 @@ def rotate_quat_one(q, w0, w1, w2, dt):
 
 
 @njit(cache=True)
-def advance_block_one(i, dt, alpha, bodies, motion, scratch):
+def _sign(x):
+    """-1, 0 or 1."""
+    if x > 0.0:
+        return 1.0
+    if x < 0.0:
+        return -1.0
+    return 0.0
+
+
+@njit(cache=True)
+def advance_block_one(i, dt, alpha, local_damping, bodies, motion, scratch):
     """Advance one free block by one step (see the module docstring).
 
     Parameters
@@ -83,6 +97,8 @@ def advance_block_one(i, dt, alpha, bodies, motion, scratch):
         Block index.
     dt, alpha : float
         Time step [s], global damping rate [1/s].
+    local_damping : float
+        Local (non-viscous) damping coefficient in [0, 1), see the module docstring.
     bodies : Bodies
         ``inv_mass`` [1/kg], ``inertia_ref``, ``inertia_ref_inv`` (reference frame) [kg m^2],
         ``ext_force`` [N], ``ext_torque`` [N m] (weight plus other loads), ``restrained``
@@ -103,32 +119,42 @@ def advance_block_one(i, dt, alpha, bodies, motion, scratch):
     m = 1.0 / inv_mass[i]
     for k in range(3):
         f = force[i, k] + ext_force[i, k] - alpha * m * vel[i, k]
+        if local_damping > 0.0:
+            f -= local_damping * abs(f) * _sign(vel[i, k])
         vel[i, k] += dt * f * inv_mass[i]
         if restrained[i, k]:
             vel[i, k] = 0.0
         pos[i, k] += dt * vel[i, k]
-    # body-frame angular velocity and moment: I_0 is constant there
-    w_b = np.zeros(3)
-    t_b = np.zeros(3)
+    # body-frame angular velocity w, moment t and momentum l: I_0 is constant there
+    w0 = rot[i, 0, 0] * omega[i, 0] + rot[i, 1, 0] * omega[i, 1] + rot[i, 2, 0] * omega[i, 2]
+    w1 = rot[i, 0, 1] * omega[i, 0] + rot[i, 1, 1] * omega[i, 1] + rot[i, 2, 1] * omega[i, 2]
+    w2 = rot[i, 0, 2] * omega[i, 0] + rot[i, 1, 2] * omega[i, 1] + rot[i, 2, 2] * omega[i, 2]
+    m0 = torque[i, 0] + ext_torque[i, 0]
+    m1 = torque[i, 1] + ext_torque[i, 1]
+    m2 = torque[i, 2] + ext_torque[i, 2]
+    t0 = rot[i, 0, 0] * m0 + rot[i, 1, 0] * m1 + rot[i, 2, 0] * m2
+    t1 = rot[i, 0, 1] * m0 + rot[i, 1, 1] * m1 + rot[i, 2, 1] * m2
+    t2 = rot[i, 0, 2] * m0 + rot[i, 1, 2] * m1 + rot[i, 2, 2] * m2
+    inertia = inertia_ref[i]
+    l0 = inertia[0, 0] * w0 + inertia[0, 1] * w1 + inertia[0, 2] * w2
+    l1 = inertia[1, 0] * w0 + inertia[1, 1] * w1 + inertia[1, 2] * w2
+    l2 = inertia[2, 0] * w0 + inertia[2, 1] * w1 + inertia[2, 2] * w2
+    # Euler's equations, I w' = t - w x I w (the gyroscopic term), plus damping
+    r0 = t0 - alpha * l0 - (w1 * l2 - w2 * l1)
+    r1 = t1 - alpha * l1 - (w2 * l0 - w0 * l2)
+    r2 = t2 - alpha * l2 - (w0 * l1 - w1 * l0)
+    if local_damping > 0.0:
+        r0 -= local_damping * abs(r0) * _sign(w0)
+        r1 -= local_damping * abs(r1) * _sign(w1)
+        r2 -= local_damping * abs(r2) * _sign(w2)
+    inv = inertia_ref_inv[i]
+    w0, w1, w2 = (
+        w0 + dt * (inv[0, 0] * r0 + inv[0, 1] * r1 + inv[0, 2] * r2),
+        w1 + dt * (inv[1, 0] * r0 + inv[1, 1] * r1 + inv[1, 2] * r2),
+        w2 + dt * (inv[2, 0] * r0 + inv[2, 1] * r1 + inv[2, 2] * r2),
+    )
     for k in range(3):
-        for j in range(3):
-            w_b[k] += rot[i, j, k] * omega[i, j]
-            t_b[k] += rot[i, j, k] * (torque[i, j] + ext_torque[i, j])
-    l_b = np.zeros(3)
-    for k in range(3):
-        for j in range(3):
-            l_b[k] += inertia_ref[i, k, j] * w_b[j]
-    rhs = np.zeros(3)
-    rhs[0] = t_b[0] - alpha * l_b[0] - (w_b[1] * l_b[2] - w_b[2] * l_b[1])
-    rhs[1] = t_b[1] - alpha * l_b[1] - (w_b[2] * l_b[0] - w_b[0] * l_b[2])
-    rhs[2] = t_b[2] - alpha * l_b[2] - (w_b[0] * l_b[1] - w_b[1] * l_b[0])
-    for k in range(3):
-        wdot_b = 0.0
-        for j in range(3):
-            wdot_b += inertia_ref_inv[i, k, j] * rhs[j]
-        w_b[k] += dt * wdot_b
-    for k in range(3):
-        omega[i, k] = rot[i, k, 0] * w_b[0] + rot[i, k, 1] * w_b[1] + rot[i, k, 2] * w_b[2]
+        omega[i, k] = rot[i, k, 0] * w0 + rot[i, k, 1] * w1 + rot[i, k, 2] * w2
         if restrained[i, 3 + k]:
             omega[i, k] = 0.0
     rotate_quat_one(quat[i], omega[i, 0], omega[i, 1], omega[i, 2], dt)
@@ -136,8 +162,8 @@ def advance_block_one(i, dt, alpha, bodies, motion, scratch):
 
 @njit(cache=True)
 def run_steps(
-    n_steps, dt, t, alpha, parallel, bodies, shapes, nodes, law, motion, contacts, scratch,
-    indenter, acc,
+    n_steps, dt, t, alpha, local_damping, parallel, bodies, shapes, nodes, law, motion, contacts,
+    scratch, indenter, acc,
 ):  # fmt: skip
     """Run up to ``n_steps`` steps; stop early when the neighbour list must be rebuilt.
 
@@ -150,6 +176,8 @@ def run_steps(
         Time at the start [s].
     alpha : float
         Global damping rate [1/s].
+    local_damping : float
+        Local damping coefficient (see the module docstring).
     parallel : bool
         Evaluate contact entries with ``prange``.
     bodies, shapes, nodes, law : Bodies, Shapes, Nodes, Law
@@ -185,8 +213,6 @@ def run_steps(
             node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch)
         else:
             node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch)
-        accumulate_wrenches(contacts.node, contacts.block, nodes.block, pos, scratch.out_force,
-                            scratch.out_point, scratch.force, scratch.torque)  # fmt: skip
         if indenter.active:
             for k in range(3):
                 centre[k] = indenter.centre0[k] + indenter.velocity[k] * (t - indenter.t0)
@@ -199,10 +225,17 @@ def run_steps(
         finite = True
         for j in range(free_blocks.shape[0]):
             i = free_blocks[j]
-            advance_block_one(i, dt, alpha, bodies, motion, scratch)
+            advance_block_one(i, dt, alpha, local_damping, bodies, motion, scratch)
             for k in range(3):
                 if not (math.isfinite(pos[i, k]) and math.isfinite(vel[i, k])):
                     finite = False
+            # bound on the motion of any point within the list's reach of the centroid
+            reach = bodies.radius[i] + 2.0 * law.margin
+            w = motion.omega[i]
+            scratch.drift[i] += dt * (
+                math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+                + math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2) * reach
+            )
         t += dt
         if not finite:
             return step + 1, STATUS_NOT_FINITE, t

@@ -94,3 +94,19 @@ def test_other_version_refused(tmp_path):
     np.savez(path, __meta__=np.array('{"format": "blockmech.explicit.checkpoint", "version": 1}'))
     with pytest.raises(CheckpointError, match="version 1"):
         read_checkpoint(path)
+
+
+def test_indentation_refuses_a_damaged_checkpoint_by_name(tmp_path):
+    """simulate_indentation with a truncated checkpoint stops with the file's name instead of
+    starting afresh or unpickling it."""
+    from dem.explicit import IndentationSettings, simulate_indentation
+    from dem.scenes.tis_panel import tis_panel
+    from dem.tis_stiffness import tis_panel_k_def
+    from dem.units import MM
+
+    path = damaged_files(tmp_path)["truncated"]
+    with pytest.raises(CheckpointError, match="truncated.npz"):
+        simulate_indentation(
+            tis_panel(3, 2.5), ExplicitSettings(k_n=tis_panel_k_def(3), node_spacing=1.5 * MM),
+            IndentationSettings(max_deflection=0.01 * MM), checkpoint=path,
+        )  # fmt: skip

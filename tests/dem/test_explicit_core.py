@@ -65,9 +65,10 @@ def incline_scene(angle, mu):
     return scene.with_loads(dead=dead)
 
 
-def run_incline(angle, mu, duration=0.03):
+def run_incline(angle, mu, duration=0.03, local_damping=0.0):
     scene = incline_scene(angle, mu)
-    settings = ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4, global_damping=0.0)
+    settings = ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4, global_damping=0.0,
+                                local_damping=local_damping)  # fmt: skip
     model = ExplicitModel(scene, settings)
     n = int(duration / model.dt)
     model.advance(n // 2)
@@ -88,6 +89,17 @@ def test_block_on_incline_slides_at_tan_angle_mu(mu):
     expected = 9.81 * (math.sin(alpha) - mu * math.cos(alpha))
     measured = (above.vel[1, 0] - v1) / (above.t - t1)
     np.testing.assert_allclose(measured, expected, rtol=0.02)
+
+
+def test_local_damping_scales_sliding_acceleration():
+    """Local damping c removes c |F| from a force along the motion: a block sliding down a slope
+    accelerates at (1 - c) g (sin alpha - mu cos alpha) (c = 0.5 here), it still slides."""
+    mu, c = 0.3, 0.5
+    alpha = math.atan(mu) + math.radians(5.0)
+    above, _, v1, t1 = run_incline(alpha, mu, local_damping=c)
+    expected = (1 - c) * 9.81 * (math.sin(alpha) - mu * math.cos(alpha))
+    measured = (above.vel[1, 0] - v1) / (above.t - t1)
+    np.testing.assert_allclose(measured, expected, rtol=0.03)
 
 
 def test_resting_block_weight_at_support():

@@ -44,7 +44,7 @@ def stack_on_ground(b, h, mu, n_blocks=1):
 
 
 def assert_brackets(result, expected, driver):
-    assert result.collapsed
+    assert result.collapsed and result.mechanism_confirmed
     width = driver.step / 2**driver.refinements
     assert result.lambda_moving - result.lambda_stable <= width + 1e-12
     assert result.lambda_stable - result.detection_lambda <= expected <= result.lambda_moving
@@ -136,10 +136,36 @@ def test_nonsense_motion_criteria_refused():
 
 
 def test_masonry_settings_kn_from_material():
-    """k_n = E / L: a block of height 0.25 on a fixed base, E = 1 GPa -> 4 GPa/m; nodes on the
-    edges (vertex layout), spacing the smallest block side over 4."""
-    settings = masonry_settings(stack_on_ground(0.1, 0.25, 0.7), young=1e9)
-    np.testing.assert_allclose(settings.k_n, 1e9 / 0.25, rtol=1e-12)
+    """k_n = E / L: a block of height 0.25 on a fixed base, E = 1 GPa -> 4 GPa/m (rigid
+    joints), in series with a joint of 4 GPa/m -> 2 GPa/m; nodes on the edges (vertex
+    layout), spacing the smallest block side over 4."""
+    scene = stack_on_ground(0.1, 0.25, 0.7)
+    np.testing.assert_allclose(masonry_settings(scene, 1e9, None).k_n, 1e9 / 0.25, rtol=1e-12)
+    settings = masonry_settings(scene, young=1e9, joint_stiffness=4e9)
+    np.testing.assert_allclose(settings.k_n, 2e9, rtol=1e-12)
     assert settings.node_layout == "vertex"
     np.testing.assert_allclose(settings.node_spacing, 0.1 / 4, rtol=1e-12)
     assert isinstance(settings, ExplicitSettings)
+
+
+def test_kn_from_material_refuses_bad_input():
+    from dem.explicit import k_n_from_material
+
+    with pytest.raises(ValueError, match="young"):
+        k_n_from_material(stack_on_ground(0.1, 0.25, 0.7), young=-1.0)
+    lone = Scene.from_convex_blocks([box((0, 0, 0), (0.1, 0.1, 0.1))], DENSITY, mu=0.5)
+    with pytest.raises(ValueError, match="no face-to-face interface"):
+        k_n_from_material(lone)
+
+
+def test_tilting_table_turns_gravity():
+    """At lambda = tan(theta) the weight keeps its magnitude m g and leans by theta towards the
+    tilt direction: horizontal / vertical = lambda; the live-load ramp adds lambda m g."""
+    scene = stack_on_ground(0.1, 0.25, 0.7)
+    weight = scene.assembly.mass[0] * 9.81
+    w = TiltingTable(direction=(0.0, 1.0, 0.0)).wrench(scene, 0.75)
+    np.testing.assert_allclose(np.linalg.norm(w[0, :3]), weight, rtol=1e-12)
+    np.testing.assert_allclose(w[0, 1] / -w[0, 2], 0.75, rtol=1e-12)
+    live = scene.with_loads(live=proportional_to_weight(scene.assembly, (0.0, 1.0, 0.0)))
+    r = LiveLoadRamp().wrench(live, 0.75)
+    np.testing.assert_allclose(r[0, :3], [0.0, 0.75 * weight, -weight], rtol=1e-12)

@@ -200,3 +200,40 @@ def test_toml_point_loads_and_json_overrides(tmp_path, two_block_stack):
     (tmp_path / "bad.toml").write_text("[suports]\nfixed = [0]\n")
     with pytest.raises(ValueError, match="unknown tables"):
         read_scene(path, toml=tmp_path / "bad.toml")
+
+
+def test_gmsh_physical_groups_as_supports(tmp_path):
+    """Two boxes meshed as one hexahedron each, tagged 'foundation' and 'wall' in gmsh."""
+    import gmsh
+
+    path = tmp_path / "groups.msh"
+    gmsh.initialize(["-v", "0"])
+    try:
+        gmsh.model.add("groups")
+        low = gmsh.model.occ.addBox(0, 0, 0, 1.0, 0.5, 0.4)
+        high = gmsh.model.occ.addBox(0, 0, 0.4, 1.0, 0.5, 0.6)
+        gmsh.model.occ.fragment([(3, low)], [(3, high)])
+        gmsh.model.occ.synchronize()
+        (_, v_low), (_, v_high) = sorted(gmsh.model.getEntities(3))
+        gmsh.model.addPhysicalGroup(3, [v_low], name="foundation")
+        gmsh.model.addPhysicalGroup(3, [v_high], name="wall")
+        for _, tag in gmsh.model.getEntities(1):
+            gmsh.model.mesh.setTransfiniteCurve(tag, 2)
+        for _, tag in gmsh.model.getEntities(2):
+            gmsh.model.mesh.setTransfiniteSurface(tag)
+            gmsh.model.mesh.setRecombine(2, tag)
+        for _, tag in gmsh.model.getEntities(3):
+            gmsh.model.mesh.setTransfiniteVolume(tag)
+        gmsh.model.mesh.generate(3)
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+    spec = SceneSpec(density=2000.0, mu=0.5, fixed_groups=("foundation",), live=(1.0, 0, 0))
+    scene = read_scene(path, spec)
+    assert scene.n_blocks == 2
+    (base,) = np.flatnonzero(scene.supports.fixed)
+    np.testing.assert_allclose(scene.assembly.volume[base], 1.0 * 0.5 * 0.4)
+    np.testing.assert_allclose(scene.assembly.interfaces().area, [0.5])
+    assert sorted(scene.meta["groups"]) == ["foundation", "wall"]
+    with pytest.raises(ValueError, match=r"fixed group 'base' .*\['foundation', 'wall'\]"):
+        read_scene(path, SceneSpec(density=2000.0, fixed_groups=("base",)))

@@ -162,3 +162,27 @@ def test_defaults_of_both_laws_collapse_together_at_the_limit_bound(name):
         # 1e-4 above: the residual tolerance of both solvers
         assert 0.98 * upper <= lam[model] <= upper * (1 + 1e-4)
     np.testing.assert_allclose(lam["fibre"], lam["resultant"], rtol=2e-2)
+
+
+def test_compressive_strength_bounds_arching_between_rigid_columns():
+    # a dry wall between two fixed end columns: the fibre law's rocking uplift is confined by
+    # the columns and, with unlimited compressive strength, the arch thrust grows without
+    # bound (no collapse: the limit analysis says "unbounded" too). With f_c = 0.2 MPa the
+    # arching is bounded: a collapse below the associated upper bound of the same joints
+    # with the same strength (limit analysis, vertex model with f_c).
+    from limit.problems import LimitSettings
+    from limit.solve import limit_analysis
+
+    scene = running_bond_wall(6, 6, 65, 210, 100, 18, 0.6, fixed_columns=("left", "right"))
+    with pytest.raises(NoCollapseError, match="still rising"):
+        solve_collapse(scene, StaticSettings(interface_model="fibre", max_steps=100))
+    f_c = 2e5
+    result = solve_collapse(
+        scene, StaticSettings(interface_model="fibre", compressive_strength=f_c)
+    )
+    upper = limit_analysis(
+        scene, LimitSettings(interface_model="vertex", compressive_strength=f_c)
+    ).lam
+    assert result.collapsed
+    assert result.lambda_max <= upper
+    assert (result.interface_state_at_peak & 8).any()  # some joints crush

@@ -7,6 +7,8 @@ import pytest
 from scipy.integrate import dblquad
 
 from dem.geometry.compatibility import compatibility_matrix
+from dem.kernels import fibre_law as fk
+from dem.kernels import interface_law as rk
 from dem.kernels.fibre_law import fibre_law_one
 from dem.kernels.interface_law import (
     STATE_DETACHED,
@@ -24,7 +26,8 @@ from dem.kernels.stiffness import (
     stiffness_triplets,
 )
 from dem.scenes.running_bond_wall import running_bond_wall
-from dem.static import _lobatto, interface_alpha
+from dem.static import interface_alpha
+from dem.static.laws import lobatto
 
 RNG = np.random.default_rng(7)
 
@@ -115,7 +118,7 @@ def test_alpha_from_table_a1():
 
 
 def test_lobatto_rule_integrates_polynomials():
-    x, w = _lobatto(5)
+    x, w = lobatto(5)
     for p in range(8):  # exact to degree 2n - 3 = 7
         np.testing.assert_allclose(w @ x**p, (1 - (-1) ** (p + 1)) / (p + 1), atol=1e-13)
 
@@ -126,10 +129,20 @@ LEVER = np.array([0.035, 0.035, 0.105, 0.105])
 DIMS = np.array([0.21, 0.07])
 
 
-def _law(q, qp=None, ft=0.0, c=0.0, mu=0.7, alpha=1.5):
+def _params(ft=0.0, c=0.0, mu=0.7, alpha=1.5, f_c=np.inf):
+    p = np.empty(rk.N_PARAMS)
+    p[rk.P_K : rk.P_K + 6] = K6
+    p[rk.P_LEVER : rk.P_LEVER + 4] = LEVER
+    p[rk.P_FT], p[rk.P_COHESION], p[rk.P_MU] = ft, c, mu
+    p[rk.P_DIMS : rk.P_DIMS + 2] = DIMS
+    p[rk.P_ALPHA], p[rk.P_FC], p[rk.P_AREA] = alpha, f_c, DIMS[0] * DIMS[1]
+    return p
+
+
+def _law(q, qp=None, ft=0.0, c=0.0, mu=0.7, alpha=1.5, f_c=np.inf):
     f, qpo, D = np.zeros(6), np.zeros(6), np.zeros((6, 6))
     qp = np.zeros(6) if qp is None else qp
-    brk, st = resultant_law_one(q, qp, False, K6, LEVER, ft, c, mu, DIMS, alpha, 0.0, f, qpo, D)
+    brk, st = resultant_law_one(q, qp, False, _params(ft, c, mu, alpha, f_c), 0.0, f, qpo, D)
     return f, qpo, D, brk, st
 
 
@@ -160,6 +173,25 @@ def test_resultant_law_limits_match_seed_equations():
     assert st == STATE_ELASTIC and not brk
     f, _, _, brk, st = _law(np.array([30.0 / K6[0], 0, 0, 0, 0, 0]), ft=20.0, c=14.0)
     assert st == STATE_DETACHED and brk
+
+
+def test_resultant_compressive_strength_closed_forms():
+    # crushing: N capped at -f_c A; rocking: the uniform stress block of depth |N| / (f_c w)
+    # takes its half out of the lever, M1 <= |N| (l2/2 - |N| / (2 f_c l1)) (no f_c: |N| l2/2)
+    area = DIMS[0] * DIMS[1]
+    f_c = 1e5
+    f, qp, D, _, st = _law(np.array([-2 * f_c * area / K6[0], 0, 0, 0, 0, 0]), f_c=f_c)
+    np.testing.assert_allclose(f[0], -f_c * area, rtol=1e-12)
+    assert st & rk.STATE_CRUSHED
+    assert D[0, 0] == 0.0  # floor 0: no normal stiffness while crushing
+    # the crushed closure is kept: unloading by the same amount leaves N = -f_c A + k dn
+    back = np.array([-1.5 * f_c * area / K6[0], 0, 0, 0, 0, 0])
+    f2, *_ = _law(back, qp=qp, f_c=f_c)
+    np.testing.assert_allclose(f2[0], -0.5 * f_c * area, rtol=1e-9)
+    n_force = -240.0
+    f, *_, st = _law(np.array([n_force / K6[0], 0, 0, -1.0, 0, 0]), f_c=f_c)
+    np.testing.assert_allclose(f[3], n_force * (0.035 - 240.0 / (2 * f_c * DIMS[0])), rtol=1e-12)
+    assert st & STATE_FLEXURE
 
 
 def test_resultant_interaction_surface_eq_A5():
@@ -201,20 +233,25 @@ def test_resultant_return_is_a_fixed_point(q):
     assert abs(flow @ D2 @ flow) <= 1e-9
 
 
+@pytest.mark.parametrize("f_c", [np.inf, 3e5])
 @pytest.mark.parametrize("seed", range(4))
-def test_resultant_tangent_matches_finite_differences(seed):
+def test_resultant_tangent_matches_finite_differences(seed, f_c):
+    # with a compressive strength, the rocking limit's dependence on N through the stress
+    # block is in the tangent too (checked on the states that rock)
     rng = np.random.default_rng(seed)
     checked = 0
     for _ in range(400):
         q = rng.standard_normal(6) * np.array([1e-6, 4e-6, 4e-6, 2e-4, 2e-4, 2e-4])
         q[0] = -abs(q[0]) - 2e-6
-        f, _, D, _, st = _law(q)
+        f, _, D, _, st = _law(q, f_c=f_c)
+        if np.isfinite(f_c) and not st & STATE_FLEXURE:
+            continue
         Dfd = np.zeros((6, 6))
         same = True
         for j in range(6):
             h = 1e-5 * max(abs(q[j]), 1e-8)
-            fp, *_, stp = _law(q + h * np.eye(6)[j])
-            fm, *_, stm = _law(q - h * np.eye(6)[j])
+            fp, *_, stp = _law(q + h * np.eye(6)[j], f_c=f_c)
+            fm, *_, stm = _law(q - h * np.eye(6)[j], f_c=f_c)
             same &= stp == st and stm == st
             Dfd[:, j] = (fp - fm) / (2 * h)
         if not same:
@@ -222,42 +259,35 @@ def test_resultant_tangent_matches_finite_differences(seed):
         scale = np.maximum(np.abs(D).max(axis=1, keepdims=True), 1e-6 * np.abs(D).max())
         np.testing.assert_allclose(D / scale, Dfd / scale, atol=1e-4)
         checked += 1
-    assert checked > 100
+    assert checked > 50
 
 
 # --- the fibre law --------------------------------------------------------------------------
 
 
 def _grid(l1, l2, n):
-    x, w = _lobatto(n)
+    x, w = lobatto(n)
     g1, g2 = np.meshgrid(0.5 * l1 * x, 0.5 * l2 * x, indexing="ij")
     pos = np.ascontiguousarray(np.column_stack([g1.ravel(), g2.ravel()]))
     return pos, np.outer(w, w).ravel() * 0.25 * l1 * l2
 
 
-def _fibre(q, pos, areas, mu=0.7, coh=0.0, ten=0.0):
+def _fibre_params(mu=0.7, coh=0.0, ten=0.0, f_c=np.inf):
+    p = np.empty(fk.N_FIBRE_PARAMS)
+    p[fk.F_KN], p[fk.F_KS], p[fk.F_MU] = 2.4e9, 1e9, mu
+    p[fk.F_COHESION], p[fk.F_TENSILE], p[fk.F_FC] = coh, ten, f_c
+    return p
+
+
+def _fibre(q, pos, areas, mu=0.7, coh=0.0, ten=0.0, f_c=np.inf, slip=None):
     ns = len(areas)
     f, D = np.zeros(6), np.zeros((6, 6))
-    slip, brk = np.zeros((ns, 2)), np.zeros(ns, dtype=np.bool_)
-    st = fibre_law_one(
-        q,
-        0,
-        ns,
-        pos,
-        areas,
-        slip,
-        brk.copy(),
-        2.4e9,
-        1e9,
-        mu,
-        coh,
-        ten,
-        0.0,
-        f,
-        slip.copy(),
-        brk.copy(),
-        D,
-    )
+    springs = np.ascontiguousarray(np.column_stack([pos, areas]))
+    slip = np.zeros((ns, 3)) if slip is None else slip
+    brk = np.zeros(ns, dtype=np.bool_)
+    out_slip, out_brk = np.zeros((ns, 3)), brk.copy()
+    params = _fibre_params(mu, coh, ten, f_c)
+    st = fibre_law_one(q, 0, ns, springs, params, slip, brk, 0.0, out_slip, out_brk, f, D)
     return f, D, st
 
 
@@ -281,6 +311,20 @@ def test_fibre_law_closed_forms():
     f, _, st = _fibre(np.array([0.09e-3, 0, 0, -1e-3, 0, 0]), pos, areas)
     np.testing.assert_allclose(f[3] / f[0], l2 / 2, rtol=1e-12)
     assert st & STATE_FLEXURE
+
+
+def test_fibre_compressive_strength_caps_every_spring():
+    # uniform closure beyond the strength: N = -f_c A (the spring areas sum to A), and a
+    # tilt crushes the edge row first: the compressed resultant stays within -f_c A
+    l1, l2, f_c = 0.3, 0.2, 1e5
+    pos, areas = _grid(l1, l2, 5)
+    f, D, st = _fibre(np.array([-1e-3, 0, 0, 0, 0, 0]), pos, areas, f_c=f_c)
+    np.testing.assert_allclose(f[0], -f_c * l1 * l2, rtol=1e-12)
+    assert st & fk.STATE_CRUSHED and D[0, 0] == 0.0
+    f, _, st = _fibre(np.array([-1e-5, 0, 0, 1e-3, 0, 0]), pos, areas, f_c=f_c)
+    assert st & fk.STATE_CRUSHED and -f_c * l1 * l2 <= f[0] < 0
+    # the moment of a fully plastic (crushed) compressed zone cannot exceed the stress block's
+    assert abs(f[3]) <= f_c * l1 * l2**2 / 4 * (1 + 1e-12)
 
 
 def test_fibre_resultants_match_spring_grid_kernel():

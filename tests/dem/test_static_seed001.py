@@ -23,9 +23,10 @@ def _settings(spec, model="fibre", **kw):
             kn=j.kn_n_mm3 * N_MM3,
             kt=j.kt_n_mm3 * N_MM3,
             tension_at_supports=False,
-            fibre_points=4,
             load_step=0.1,
         )
+        if model == "fibre":
+            extra["fibre_points"] = 4
     return StaticSettings(interface_model=model, mu=j.mu, on_failure="return", **extra, **kw)
 
 

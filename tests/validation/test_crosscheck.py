@@ -191,3 +191,16 @@ def test_weight_direction_tells_a_weight_load_from_others():
 def test_settings_refuse_unknown_methods():
     with pytest.raises(ValueError, match="unknown methods"):
         CrosscheckSettings(methods=("dem", "magic"))
+
+
+def test_report_lists_unbalanced_and_most_stressed_blocks():
+    from validation.crosscheck.files import BLOCK_ROWS, _most_stressed
+
+    blocks = [
+        {"block": i, "residual": 1e-9, "max_principal": float(i), "min_principal": -1.0}
+        for i in range(30)
+    ]
+    blocks[3] = {"block": 3, "residual": 0.2}  # out of equilibrium, not solved
+    listed = [b["block"] for b in _most_stressed(blocks, 1e-3)]
+    assert len(listed) == BLOCK_ROWS and 3 in listed
+    assert listed == sorted(listed) and 29 in listed and 4 not in listed

@@ -1,5 +1,6 @@
 """The command lines: ``python -m validation crosscheck`` and the quiet ``validation all``."""
 
+import json
 import logging
 import os
 import subprocess
@@ -7,6 +8,7 @@ import sys
 import warnings
 
 import matplotlib.image
+import meshio
 import numpy as np
 
 from dem.scenes import voussoir_arch
@@ -124,3 +126,27 @@ sys.exit(m.main(["all", "--quick"]))
     assert done.stderr == "" and "banner" not in done.stdout
     log = (tmp_path / "validation.log").read_text()
     assert "solver banner on fd 1" in log and "a warning" in log
+
+
+def test_crosscheck_of_a_mesh_with_command_line_supports(tmp_path, capfd):
+    """Two stacked hexahedra from a VTU (0.4 x 0.3 x 0.5 m each); density, friction, supports
+    and live load from the options. The top cell overturns at b / h = 0.8 > mu: slides at 0.6."""
+    corners = [(x, y, z) for z in (0.0, 0.5, 1.0) for y in (0.0, 0.3) for x in (0.0, 0.4)]
+    points = np.array(corners)
+    # meshio (VTK) hexahedron: bottom face counter-clockwise, then the top face
+    hexes = [[0, 1, 3, 2, 4, 5, 7, 6], [4, 5, 7, 6, 8, 9, 11, 10]]
+    path = tmp_path / "column.vtu"
+    meshio.Mesh(points, [("hexahedron", np.array(hexes))]).write(path)
+    out = tmp_path / "report"
+    args = ["--density", "1500", "--mu", "0.6", "--fixed-below", "0.3", "--live", "x"]
+    code = console_main(
+        [str(path), *args, "--out", str(out), "--methods", "dead,limit", "--no-pictures"]
+    )
+    console = capfd.readouterr().out
+    assert code == 0, console
+    data = json.loads((out / "report.json").read_text())
+    assert data["scene"]["n_blocks"] == 2 and data["scene"]["n_fixed"] == 1
+    assert data["scene"]["live_weight_direction"] == [1.0, 0.0, 0.0]
+    upper = next(s for s in data["steps"] if s["name"] == "limit-vertex")["values"]["upper"]
+    np.testing.assert_allclose(upper, min(0.6, 0.4 / 0.5), rtol=1e-6)
+    assert not list(out.glob("*.png"))

@@ -14,9 +14,11 @@ Scenes:
 Every row is one line of a scene's verdict (:mod:`validation.crosscheck.verdict`): ``ours`` is
 the checked value, ``extra`` holds the bound it is compared with, the outcome (pass, fail or
 n/a) and why. There is no reference value: a check is an inequality between methods, not an
-error. Each scene's full report (``report.md``, ``report.json``; VTU and PNG files are not
-committed) is written to ``validation/results/crosscheck-examples/<scene>/``. The quick run
-leaves out the explicit DEM of the 3 x 13 panel (about 100 s).
+error. A failed line is a finding about a method (which one disagrees with the others, by how
+much), not a failure of the case. Each scene's full report (``report.md``, ``report.json``;
+VTU and PNG files are not committed) is written to
+``validation/results/crosscheck-examples/<scene>/``. The quick run leaves out the explicit DEM
+of the 3 x 13 panel (about 100 s).
 """
 
 from __future__ import annotations

@@ -675,7 +675,7 @@ def run_vs_dem(quick: bool = True):
                     scene,
                     StaticSettings(
                         interface_model=dem_model,
-                        alpha=settings.torsion_alpha,
+                        alpha=settings.torsion_alpha if dem_model == "resultant" else None,
                         mu=spec.joint.mu,
                         tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
                         on_failure="return",

@@ -5,7 +5,12 @@ Three cases:
 - ``masonry-orduna``: Table 1, the two dry-joint panels of Orduna & Lourenco (2005b);
 - ``masonry-restrepo``: Table 2, the Restrepo-Velez et al. (2014) tilting-table specimens, with
   the return walls as the seed models them (a fixed column) and built as blocks;
-- ``masonry-chee-liang``: Table 3, the mortared walls of Chee Liang (1996) under pressure.
+- ``masonry-chee-liang``: Table 3, the mortared walls of Chee Liang (1996) under pressure;
+- ``masonry-restrepo-kernels``: Table 2 rerun under three OpenBLAS kernels (subprocesses with
+  ``OPENBLAS_CORETYPE``), the spread of lambda across them (round-off robustness).
+
+A run that does not collapse (termination ``max_steps``, ``stalled``, ``no_mechanism``) has no
+value in ``ours``: its termination and ``lambda_reached`` are recorded instead.
 
 Each row is one collapse analysis (interface model x support variant) with the seed's DEM
 value and the reference values of the table. Each run also leaves an ``.npz`` (pushover,
@@ -16,7 +21,11 @@ the figures. The ``masonry-orduna`` case writes ``validation/results/masonry-col
 
 from __future__ import annotations
 
+import json
 import logging
+import os
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -130,7 +139,7 @@ def _row(
         source=spec.source,
         wall_s=wall,
         settings={
-            "static": {k: v for k, v in settings.__dict__.items() if not k.startswith("_")},
+            "static": settings.to_dict(),
             "assumptions": spec.assumptions,
             "supports": spec.supports,
             "run": f"validation/results/masonry/{tag}.npz",
@@ -156,6 +165,112 @@ def _summary(rows: list[Row], seed_errors: list[float]) -> str:
         f"| seed 001 DEM | as in the seed | {np.mean(seed_errors):.3f} | {len(seed_errors)} |"
     )
     return "\n".join(lines)
+
+
+def _no_collapse_list(rows: list[Row]) -> str:
+    """Markdown list of the runs that did not collapse, or a sentence saying none."""
+    missed = [r for r in rows if not r.extra.get("collapsed")]
+    if not missed:
+        return "Every run collapsed.\n\n"
+    lines = [
+        f"- {r.quantity}: {r.extra['termination']}"
+        + (
+            ""
+            if r.extra.get("lambda_reached") is None
+            else f" (lambda reached {r.extra['lambda_reached']:.4g})"
+        )
+        for r in missed
+    ]
+    return "Runs without a collapse (no lambda reported):\n\n" + "\n".join(lines) + "\n\n"
+
+
+KERNELS = ("Haswell", "SkylakeX", "Sandybridge")
+KERNEL_RESULTS = RESULTS_DIR / "masonry-restrepo-kernels.json"
+
+
+def _kernel_note() -> str:
+    """The spread across OpenBLAS kernels from the last ``masonry-restrepo-kernels`` run."""
+    if not KERNEL_RESULTS.exists():
+        return "no `masonry-restrepo-kernels` run yet: the spread across BLAS kernels is unknown."
+    data = json.loads(KERNEL_RESULTS.read_text())
+    lines = ["| run | lambda per kernel | spread | terminations |", "|---|---|---|---|"]
+    for r in data["rows"]:
+        lams = r["extra"]["lambda_per_kernel"]
+        values = " / ".join("-" if v is None else f"{v:.5f}" for v in lams)
+        spread = "-" if r["ours"] is None else f"{100 * r['ours']:.2f} %"
+        lines.append(f"| {r['quantity']} | {values} | {spread} | {r['extra']['terminations']} |")
+    quick = " (quick subset)" if data.get("quick") else ""
+    return (
+        f"spread of lambda across the OpenBLAS kernels {', '.join(KERNELS)} "
+        f"(`masonry-restrepo-kernels`{quick}, commit {data.get('git_commit', '?')[:12]}):\n\n"
+        + "\n".join(lines)
+    )
+
+
+def _one_run(name: str, model: str, variant: str, quick: bool) -> dict:
+    """One Table 2 analysis as the case runs it: lambda (None without collapse), termination."""
+    spec = SPECIMENS[f"restrepo-{name}"]
+    scene = spec.build() if variant == "none" else spec.build(return_walls=variant)
+    result = solve_collapse(scene, _settings(spec, model, quick))
+    return {
+        "lam": result.lambda_max if result.collapsed else None,
+        "termination": result.termination,
+    }
+
+
+def run_restrepo_kernels(quick: bool = True):
+    """Table 2 rerun under three OpenBLAS kernels: the spread of lambda across them."""
+    names = QUICK_RESTREPO if quick else RESTREPO_NAMES
+    rows = []
+    for name in names:
+        spec = SPECIMENS[f"restrepo-{name}"]
+        variants = (("fibre", "none"), ("resultant", "none"))
+        if spec.supports != "base+beams":
+            variants = VARIANTS
+        for model, variant in variants:
+            start = time.perf_counter()
+            runs = [_run_under_kernel(kernel, name, model, variant, quick) for kernel in KERNELS]
+            lams = [r["lam"] for r in runs]
+            spread = None
+            if all(lam is not None for lam in lams):
+                spread = (max(lams) - min(lams)) / min(lams)
+            rows.append(
+                Row(
+                    quantity=f"restrepo-{name} ({model}, {variant})",
+                    ours=spread,
+                    reference=None,
+                    source="relative spread of lambda across OpenBLAS kernels",
+                    wall_s=time.perf_counter() - start,
+                    settings={"kernels": list(KERNELS), "quick": quick},
+                    extra={
+                        "lambda_per_kernel": lams,
+                        "terminations": "/".join(r["termination"] for r in runs),
+                        "within_1_percent": None if spread is None else bool(spread <= 0.01),
+                    },
+                )
+            )
+    notes = (
+        "Each Table 2 analysis of `masonry-restrepo` (same settings) rerun in a subprocess "
+        f"under OPENBLAS_CORETYPE = {', '.join(KERNELS)} (this CPU supports AVX2, AVX-512 "
+        "and AVX); `ours` = (max - min) / min of lambda over the kernels, None if a run did "
+        "not collapse. The kernels round differently (FMA, vector width); the Newton "
+        "iterations at the joints' kinks amplify that round-off, and where frictional "
+        "equilibrium is not unique a step that converges in 29 iterations on one kernel and "
+        "fails at 30 on another changes the step sequence and with it the path."
+    )
+    return rows, notes
+
+
+def _run_under_kernel(kernel: str, name: str, model: str, variant: str, quick: bool) -> dict:
+    env = dict(os.environ, OPENBLAS_CORETYPE=kernel)
+    args = [sys.executable, "-m", "validation.cases.masonry", name, model, variant]
+    proc = subprocess.run(
+        args + (["--quick"] if quick else []), env=env, capture_output=True, text=True
+    )
+    if proc.returncode != 0:
+        tail = proc.stderr.strip().splitlines()[-1:] or ["?"]
+        return {"lam": None, "termination": f"error: {tail[0][:80]}"}
+    return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -260,46 +375,24 @@ def run_restrepo(quick: bool = True):
         "S32 has no return wall; its top is held by the beams (assumed: free, it overturns "
         "at 0.084). Opening sizes of S23/S34 are assumed (see settings). `blocks_6` (full "
         "runs only): return walls 6 blocks long, the sensitivity to that assumption.\n\n"
-        "Findings. (1) resultant law (the seed's) + fixed column: the early 'collapse' of "
-        "earlier runs (S11 at 0.024, S5 at 0.070) was a solver defect, not physics. The "
-        "return mapping took joints sitting exactly on their limit (the committed state after "
-        "a plastic return) as elastic at the start of the next step (about two thirds of the "
-        "yielded joints of S11), Newton cycled between states, the step shrank to 1e-9 m, and "
-        "the plateau test fired on the lambda noise of loosely converged steps while the path "
-        "was still rising at half its initial slope (load control from a stalled state found "
-        "equilibria about 25 % higher). Fixed by deciding yielding to within 1e-9 of the limit, a "
-        "tangent floor of 1e-4 (1e-9 left blocks held by yielded joints nearly free in the "
-        "iteration matrix), a secant predictor and no loosely converged steps: every "
-        "fixed-column specimen now ends on a plateau in 1-5 s, S11 at 0.0758 for load steps "
-        "0.005, 0.01, 0.02 (spread 0.05 %). The "
-        "mechanism is the overturning of the whole free wall about its base, sliding along the "
-        "column(s): the resultant law rotates its hinges about the joint centroid, without "
-        "uplift, so the fixed blocks that overlap the wall cannot lock it, and lambda stays a "
-        "little above the free wall's s/H = 0.067 (0.076-0.113 for every specimen). The seed's "
-        "DEM, with the same law and supports, reports 0.10-0.35 and diagonal cracks (Figs. "
-        "15-16); we cannot reproduce that and do not know what in its solver carries the "
-        "difference. (2) return walls built as blocks: the closest variant for both laws "
-        "(resultant law: S11-S15 within 11 %); the two-sided specimens are capped by the "
-        "assumed 3-block return walls, which "
-        "overturn themselves (limit analysis: 0.217 for S5 against 0.349 measured; the fibre "
-        "law with 6-block return walls comes to 0.297). With the resultant law, the "
-        "load-weighted control of S15, S6, S1-S2-S3 and S5 stalls near the peak (steps cut to "
-        "1e-4 of the first while lambda still rose at 1.5-5 % of the initial slope); the "
-        "solver then follows the path along its last increment: S15, S6 and S5 end on "
-        "plateaus 0.6 %, 0.9 % and 8.5 % above where they stalled (0.1914, 0.1590, 0.1822), "
-        "S1-S2-S3 still rises at 4.6 % of the initial slope when it reaches max_steps "
-        "(0.1677, was 0.1657). The fibre law's S34 passes its peak in a snap-back. Where the "
-        "paths stall, frictional equilibrium is not unique and the path taken depends on the "
-        "iteration: S15 ends at 0.19265 / 0.19253 / 0.19263 / 0.19262 for tangent floors "
-        "1e-3 / 1e-4 / 1e-5 / 1e-6 (spread 0.06 %; 1e-6 stalled at 0.1726 before the "
-        "path-direction control), S1-S2-S3 at 0.1738 (max_steps) / 0.1677 (max_steps) / "
-        "0.1743 (plateau) for 1e-3 / 1e-4 / 1e-5 (spread 4 %). (3) fibre law "
-        "+ fixed column: the "
-        "rocking dilatancy (uplift about block edges) is confined by the immovable column(s): "
-        "the blocks are clamped and arching grows without bound with two columns (lambda >> "
-        "1). (4) resultant law over openings without lintels: the blocks above an opening "
-        "have no support without dilatancy (arching), a mechanism under the dead load.\n\n"
-        "Mean relative error per variant over the specimens run "
+        "Known behaviour of the laws. Resultant law (the seed's) + fixed column: the law "
+        "rotates its hinges about the joint centroid, without uplift, so the fixed blocks that "
+        "overlap the wall cannot lock it; the free wall overturns about its base sliding along "
+        "the column(s), a little above the free wall's s/H = 0.067, well below the seed's "
+        "0.10-0.35 (we cannot reproduce the seed's diagonal cracks). Fibre law + fixed column: "
+        "the rocking uplift is confined by the immovable column(s), and with two columns the "
+        "arch thrust grows without bound (no collapse unless a compressive strength is set). "
+        "Resultant law over openings without lintels: the blocks above an opening have no "
+        "support without dilatancy (a mechanism under the dead load). Return walls built as "
+        "blocks: the closest variant for both laws; the two-sided specimens are capped by the "
+        "assumed 3-block return walls, which overturn themselves.\n\n"
+        "Collapse is judged against the initial slope and, while lambda still rises at every "
+        "step, against the recent path (dem.collapse_criteria); a run that did not collapse "
+        "is listed below and has no value in `ours`.\n\n"
+        + _no_collapse_list(rows)
+        + "Round-off: "
+        + _kernel_note()
+        + "\n\nMean relative error per variant over the specimens run "
         f"(the seed's own DEM over all of Table 2: {SEED_TABLE2_MEAN_ERROR}):\n\n"
         + _summary(rows, seed_errors)
     )
@@ -353,4 +446,11 @@ CASES = {
     "masonry-orduna": run_orduna,
     "masonry-restrepo": run_restrepo,
     "masonry-chee-liang": run_chee_liang,
+    "masonry-restrepo-kernels": run_restrepo_kernels,
 }
+
+
+if __name__ == "__main__":
+    # one Table 2 analysis, printed as JSON (the child of masonry-restrepo-kernels)
+    argv = sys.argv[1:]
+    print(json.dumps(_one_run(*argv[:3], quick="--quick" in argv)))

@@ -44,6 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("--density", type=float, help="block density [kg/m^3]")
     parser.add_argument("--mu", type=float, help="friction coefficient [-]")
     parser.add_argument("--fixed", help="comma-separated ids of fixed blocks")
+    parser.add_argument("--fixed-group", help="comma-separated named cell groups to fix")
     parser.add_argument(
         "--fixed-below", type=float, help="fix every block whose centroid lies below this z [m]"
     )
@@ -60,6 +61,7 @@ def load_scene(args: argparse.Namespace):
         mu=args.mu,
         fixed=tuple(int(i) for i in args.fixed.split(",")) if args.fixed else (),
         fixed_below=args.fixed_below,
+        fixed_groups=tuple(args.fixed_group.split(",")) if args.fixed_group else (),
         live=SceneSpec.direction(args.live) if args.live else None,
     )
     return read_scene(args.scene, spec, args.toml)

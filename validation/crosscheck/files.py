@@ -12,6 +12,9 @@ from validation.crosscheck.pictures import draw_pictures, write_vtus
 from validation.crosscheck.steps import Context
 from validation.report import _fmt, _git_commit, _jsonable, _versions
 
+BLOCK_ROWS = 20
+"""Blocks listed in the FEM table of ``report.md``."""
+
 MULTIPLIERS = (
     ("limit-vertex", "upper", "upper bound, associated (vertex model)"),
     ("limit-vertex", "reduced_mu", "estimate (a) mu* (vertex model)"),
@@ -110,6 +113,7 @@ def markdown(result, files: dict, payload: dict) -> str:
     fem = next((x for x in result.steps if x.name == "fem" and x.ok), None)
     if fem is not None:
         v = fem.values
+        listed = _most_stressed(v["blocks"], v["residual_tolerance"])
         lines += [
             "## Block stresses at the DEM collapse state (FEM)",
             "",
@@ -123,8 +127,11 @@ def markdown(result, files: dict, payload: dict) -> str:
             *_table(
                 ["block", "residual", "max principal [MPa]", "min principal [MPa]"],
                 [[b["block"], b["residual"], _mpa(b.get("max_principal")),
-                  _mpa(b.get("min_principal"))] for b in v["blocks"]],
+                  _mpa(b.get("min_principal"))] for b in listed],
             ),
+            "",
+            f"The {min(len(v['blocks']), BLOCK_ROWS)} most stressed or least balanced blocks of "
+            f"{len(v['blocks'])}; every block is in `report.json`.",
             "",
         ]  # fmt: skip
     lines += [
@@ -218,6 +225,18 @@ def in_short(result) -> list[str]:
         f"({failed} failed check{'s' if failed != 1 else ''}; see the verdict)."
     )
     return out
+
+
+def _most_stressed(blocks: list[dict], tol: float) -> list[dict]:
+    """The ``BLOCK_ROWS`` blocks out of equilibrium (residual above ``tol``) or with the
+    largest stress magnitude, in block order."""
+
+    def key(b: dict) -> tuple:
+        stress = max(abs(b.get("max_principal") or 0.0), abs(b.get("min_principal") or 0.0))
+        return (b["residual"] > tol, stress)
+
+    ranked = sorted(blocks, key=key, reverse=True)[:BLOCK_ROWS]
+    return sorted(ranked, key=lambda b: b["block"])
 
 
 def _mpa(value) -> float | None:

@@ -1,0 +1,273 @@
+r"""Newton corrector of the static analysis: one equilibrium under load or path control.
+
+Load control (the dead load, lambda fixed) or a linear path constraint ``w . u = c`` (lambda an
+unknown, bordered system
+
+.. math::
+
+    \begin{bmatrix} K_t & -F_L \\ w^T & 0 \end{bmatrix}
+    \begin{bmatrix} \delta U \\ \delta\lambda \end{bmatrix} =
+    \begin{bmatrix} F_D + \lambda F_L - H^T f(U) \\ c - w^T U \end{bmatrix},
+
+with the tangent ``K_t = H^T D H`` of the interface law), damped Levenberg-Marquardt style on
+the tangent floor: yielded and open components of the iteration matrix keep a fraction
+``floor`` of their elastic stiffness; an iterate that raises the residual is rejected and the
+floor grows tenfold (a stiffer, shorter step); an accepted one lowers it tenfold down to the
+law's ``tangent_floor``. The floor changes only the iteration matrix: the residual uses the
+exact law, so every converged point is an equilibrium of it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from dem.static.model import Evaluation, Model
+from dem.static.result import StaticSolverError
+from dem.static.settings import StaticSettings
+
+BACKTRACK = (1.0, 0.5, 0.25, 0.125, 1 / 32, 1 / 256)  # step lengths tried along a direction
+
+
+def factor(A: sp.csc_matrix):
+    """Sparse LU (symmetric-mode ordering: the pattern of H^T D H is symmetric), or the
+    exception if the matrix is singular."""
+    try:
+        return spla.splu(
+            A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.01, options={"SymmetricMode": True}
+        )
+    except RuntimeError as exc:  # "Factor is exactly singular"
+        return exc
+
+
+class LinearSolver:
+    """Solves with the current tangent, reusing an older LU as a GMRES preconditioner.
+
+    Between two Newton iterations only the interfaces that change state change the tangent:
+    a low-rank update, which GMRES preconditioned with the previous factorisation resolves in
+    a few iterations. A new factorisation is made when GMRES does not reach ``rtol`` within
+    ``max_krylov`` iterations, and reuse stops once it fails more often than not.
+    """
+
+    def __init__(self, rtol: float = 1e-10, max_krylov: int = 30):
+        self.lu = None
+        self.rtol = rtol
+        self.max_krylov = max_krylov
+        self.n_factor = 0
+        self.n_krylov = 0
+        self.n_tries = 0
+
+    def _krylov(self, A: sp.csc_matrix, rhs: np.ndarray):
+        self.n_tries += 1
+        lu = self.lu
+        x0 = lu.solve(rhs)
+        if not np.all(np.isfinite(x0)):
+            return None
+        M = spla.LinearOperator(A.shape, matvec=lu.solve, dtype=float)
+        x, info = spla.gmres(
+            A, rhs, x0=x0, rtol=self.rtol, atol=0.0, restart=self.max_krylov, maxiter=1, M=M
+        )
+        res = np.linalg.norm(A @ x - rhs)
+        if info == 0 and np.isfinite(res) and res <= 10 * self.rtol * np.linalg.norm(rhs):
+            self.n_krylov += 1
+            return x
+        return None
+
+    def solve(self, A: sp.csc_matrix, rhs: np.ndarray):
+        """``A^{-1} rhs``, or the exception of a singular factorisation."""
+        useful = self.n_tries < 10 or self.n_krylov >= 0.5 * self.n_tries
+        if useful and self.lu is not None and self.lu.shape == A.shape:
+            x = self._krylov(A, rhs)
+            if x is not None:
+                return x
+        lu = factor(A)
+        if isinstance(lu, Exception):
+            return lu
+        self.lu = lu
+        self.n_factor += 1
+        return lu.solve(rhs)
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """What closes the equations: a dead-load target (lambda fixed), or ``w . u = c``.
+
+    Attributes
+    ----------
+    w : (n_free,) float or None
+        Constraint weights (path control); None under load control.
+    c : float
+        Target of ``w . u`` [m].
+    dc : float
+        Increment of the constraint from the start point [m] (the scale of its residual).
+    dead_target : (n_free,) float or None
+        The load under load control [N, N m].
+    """
+
+    w: np.ndarray | None = None
+    c: float = 0.0
+    dc: float = 0.0
+    dead_target: np.ndarray | None = None
+
+
+@dataclass(eq=False)
+class Iterate:
+    """A point ``(u, lambda)`` with the law's response and the residual there."""
+
+    u: np.ndarray
+    lam: float
+    ev: Evaluation
+    residual: np.ndarray
+
+    @property
+    def norm(self) -> float:
+        return float(np.linalg.norm(self.residual))
+
+
+@dataclass(eq=False)
+class Outcome:
+    """Result of :meth:`Corrector.solve`."""
+
+    converged: bool
+    point: Iterate
+    iterations: int
+    floor: float
+    singular: str = ""
+    loose: bool = False
+
+
+class Corrector:
+    """Newton iterations of one step (module notes)."""
+
+    def __init__(self, model: Model, settings: StaticSettings):
+        self.model = model
+        self.settings = settings
+        law = settings.law_settings
+        self.floor_min = law.tangent_floor
+        accept = law.accept_tolerance
+        self.accept_tolerance = settings.tolerance if accept is None else accept
+        self.linear = LinearSolver()
+
+    def evaluate(self, u: np.ndarray, lam: float, floor: float, con: Constraint) -> Iterate:
+        """The law and the residual at ``(u, lam)``; NaN raises, naming where."""
+        model = self.model
+        ev = model.evaluate(u, floor)
+        target = con.dead_target if con.w is None else model.F_dead + lam * model.F_live
+        R = target - ev.internal
+        if not (np.all(np.isfinite(ev.law.f)) and np.all(np.isfinite(R))):
+            bad_itf = np.flatnonzero(~np.isfinite(ev.law.f).all(axis=1))
+            bad_dof = np.flatnonzero(~np.isfinite(R))[:20]
+            blocks = sorted({model.block_of_dof(int(i))[0] for i in bad_dof})
+            raise StaticSolverError(
+                f"NaN or inf at lambda = {lam:.6g}: interfaces {bad_itf[:10].tolist()}, "
+                f"blocks {blocks[:10]}",
+                blocks=blocks,
+                interfaces=bad_itf[:10],
+                lam=lam,
+            )
+        return Iterate(u, lam, ev, R)
+
+    def tolerance(self, lam: float, loose: bool = False) -> float:
+        """Residual norm of convergence at ``lam`` [N]."""
+        tol = self.accept_tolerance if loose else self.settings.tolerance
+        model = self.model
+        return tol * (model.dead_norm + 1e-300 + abs(lam) * model.live_norm)
+
+    def _direction(self, it: Iterate, con: Constraint):
+        """Newton direction ``(du, dlam)``, or the exception of a singular matrix."""
+        model = self.model
+        if con.w is None:
+            return self.linear.solve(model.stiffness(it.ev.law.D), it.residual)
+        A = model.stiffness(it.ev.law.D, con.w)
+        rhs = np.concatenate([it.residual, [con.c - con.w @ it.u]])
+        return self.linear.solve(A, rhs)
+
+    def _line_search(self, it: Iterate, sol: np.ndarray, floor: float, con: Constraint, first):
+        """Backtrack along the direction to the first trial that lowers the residual (or the
+        shortest); the full step on the first iteration of a step (the constraint row is
+        linear: a partial step keeps a proportional constraint residual)."""
+        n = self.model.n_free
+        for step in BACKTRACK:
+            lam = it.lam if con.w is None else it.lam + step * sol[-1]
+            trial = self.evaluate(it.u + step * sol[:n], lam, floor, con)
+            if first or trial.norm <= it.norm:
+                break
+        return trial
+
+    def solve(
+        self,
+        start: Iterate,
+        con: Constraint,
+        floor: float | None = None,
+        max_iterations: int | None = None,
+    ) -> Outcome:
+        """Iterate from ``start`` (an equilibrium, or a predicted point) to ``con``."""
+        floor = self.floor_min if floor is None else max(floor, self.floor_min)
+        max_iterations = max_iterations or self.settings.max_iterations
+        it = self.evaluate(start.u, start.lam, floor, con) if start.ev is None else start
+        first, best = True, None
+        for n_iter in range(1, max_iterations + 1):
+            if not first and it.norm <= self.tolerance(it.lam):
+                return Outcome(True, it, n_iter - 1, floor)
+            sol = self._direction(it, con)
+            if isinstance(sol, Exception) or not np.all(np.isfinite(sol)):
+                if floor >= 1.0:
+                    return Outcome(False, it, n_iter, floor, singular=str(sol))
+                floor = min(10.0 * floor, 1.0)
+                it = self.evaluate(it.u, it.lam, floor, con)
+                continue
+            trial = self._line_search(it, sol, floor, con, first)
+            if first or trial.norm <= it.norm or floor >= 1.0:
+                it, first = trial, False
+                on_constraint = con.w is None or abs(con.c - con.w @ it.u) <= 1e-9 * abs(con.dc)
+                if on_constraint and (best is None or it.norm < best.norm):
+                    best = it
+                # the lower floor takes effect at the next evaluation (saves one evaluation)
+                floor = max(0.1 * floor, self.floor_min)
+            else:
+                floor = min(10.0 * floor, 1.0)
+                it = self.evaluate(it.u, it.lam, floor, con)
+        if not first and it.norm <= self.tolerance(it.lam):
+            return Outcome(True, it, max_iterations, floor)
+        # stalled near a kink of the law (typically the apex of a joint's cone at N -> 0):
+        # accept the best iterate if its residual is below the law's looser tolerance
+        if best is not None and best.norm <= self.tolerance(best.lam, loose=True):
+            return Outcome(True, best, max_iterations, floor, loose=True)
+        return Outcome(False, it, max_iterations, floor)
+
+
+def solve_dead_load(corrector: Corrector) -> tuple[Iterate, int]:
+    """Equilibrium under the dead load (load control, ``dead_steps`` increments), committed.
+
+    Raises StaticSolverError naming the block of the largest residual if there is none (the
+    assembly is a mechanism under its own weight).
+    """
+    model, settings = corrector.model, corrector.settings
+    point = Iterate(np.zeros(model.n_free), 0.0, None, None)
+    n_iter = 0
+    for step in range(1, settings.dead_steps + 1):
+        con = Constraint(dead_target=model.F_dead * step / settings.dead_steps)
+        # the dead load starts from unloaded joints with no friction capacity: allow more
+        # iterations than a live step
+        point = Iterate(point.u, 0.0, None, None)
+        out = corrector.solve(point, con, max_iterations=4 * settings.max_iterations)
+        n_iter += out.iterations
+        if not out.converged:
+            R = out.point.residual
+            blk, dof = model.block_of_dof(int(np.argmax(np.abs(R))))
+            changing = np.flatnonzero(out.point.ev.law.state != 0)
+            why = f" ({out.singular})" if out.singular else ""
+            raise StaticSolverError(
+                f"no equilibrium under the dead load after {out.iterations} iterations{why} "
+                f"(residual {np.linalg.norm(R):.3e}, largest at block {blk} {dof}): the "
+                "assembly may be a mechanism under its own weight",
+                blocks=[blk],
+                interfaces=changing[:10],
+                lam=0.0,
+            )
+        point = out.point
+        model.law.commit(point.ev.law)
+    return point, n_iter

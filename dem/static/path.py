@@ -1,0 +1,233 @@
+r"""Path following of the live load to collapse: step control, cascades, control switch, end.
+
+Each live step prescribes the increment of a control ``w . u`` and solves for ``(u, lambda)``
+(:mod:`dem.static.newton`), which stays regular at limit points:
+
+- **control**: first ``w = F_L / |F_L|_1``, so ``c = w . u`` is the live-load-weighted mean
+  displacement [m]. When a step fails even at ``min_step_ratio`` times its first size away
+  from a plateau (near some peaks the path turns in ``c``, or a local mechanism forms that
+  ``c`` hardly measures: seed 001 S15 with return walls, resultant law), ``w`` becomes the unit
+  direction of the previous increment (the updated normal plane of Riks' method) with steps
+  measured in the length of the first increment; this follows the path through limit points
+  and snap-backs;
+- **step size**: the increment adapts to the Newton iteration count (``target_iterations``),
+  halves on a failed step, and stays within ``max_step_factor`` first increments;
+- **cracking cascade**: when no step converges and the failed trial broke mortar joints, the
+  cracks are kept and the path restarts from the last equilibrium (brittle snap-back);
+- **end**: the collapse criteria of :mod:`dem.collapse_criteria` (plateau relative to the
+  initial slope *and* to the recent path, softening, snap-back); otherwise ``max_steps``
+  (lambda still rising) or ``stalled``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dem.collapse_criteria import CollapseCriteria
+from dem.static.model import Model
+from dem.static.newton import Constraint, Corrector, Iterate, Outcome, factor
+from dem.static.result import StaticSolverError
+from dem.static.settings import StaticSettings
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(eq=False)
+class Peak:
+    """The equilibrium of the largest lambda so far."""
+
+    lam: float
+    u: np.ndarray
+    f: np.ndarray
+    state: np.ndarray
+
+
+def first_increment(model: Model, corrector: Corrector, u: np.ndarray) -> float:
+    """Control increment [m] of the elastic response to ``load_step * lambda_scale``."""
+    ev = model.evaluate(u, 1.0)  # floor 1: the elastic stiffness
+    lu = factor(model.stiffness(ev.law.D))
+    if isinstance(lu, Exception):
+        raise StaticSolverError(f"singular stiffness after the dead load: {lu}", lam=0.0)
+    dlam0 = corrector.settings.load_step * model.lambda_scale
+    dc0 = float(model.w @ lu.solve(model.F_live)) * dlam0
+    if not (math.isfinite(dc0) and dc0 > 0):
+        raise StaticSolverError(
+            "the live load does no work on the elastic response (control increment "
+            f"{dc0:.3e} m): the live pattern is carried without displacement",
+            lam=0.0,
+        )
+    return dc0
+
+
+class PathFollower:
+    """Follows the live load from the dead-load equilibrium ``start`` (module notes).
+
+    Attributes
+    ----------
+    point : Iterate
+        The last equilibrium.
+    peak : Peak
+    criteria : CollapseCriteria
+        The path ``(c, lambda)`` so far and its end.
+    history : list of (n_free,) arrays
+        ``u`` at every equilibrium.
+    n_steps, n_iterations, n_loose, n_cascades, n_arc : int
+    """
+
+    def __init__(self, model: Model, corrector: Corrector, start: Iterate, n_iter: int = 0):
+        self.model, self.corrector = model, corrector
+        settings: StaticSettings = corrector.settings
+        self.settings = settings
+        self.point = start
+        self.peak = Peak(0.0, start.u.copy(), start.ev.law.f.copy(), model.law.state.copy())
+        self.history = [start.u.copy()]
+        self.dc0 = first_increment(model, corrector, start.u)
+        self.criteria = CollapseCriteria(
+            float(model.w @ start.u),
+            self.dc0,
+            settings.plateau_slope,
+            settings.plateau_steps,
+            settings.softening_drop,
+            settings.plateau_rise,
+            settings.plateau_window,
+        )
+        # step control: the increment, its bounds, the last accepted increment
+        self.dc = self.dc_ref = self.dc_cascade = self.dc0
+        self.dc_max = settings.max_step_factor * self.dc0
+        self.w = model.w  # constraint: the fixed control until switched to the path direction
+        self.du_first = 0.0  # length of the first increment: the step unit along the path
+        self.last_du = np.zeros_like(start.u)
+        self.last_dlam = self.last_dc = 0.0
+        self.floor = None
+        self.n_steps, self.n_iterations = 0, n_iter
+        self.n_loose = self.n_cascades = self.n_arc = 0
+
+    @property
+    def switched(self) -> bool:
+        """Whether the constraint follows the path direction."""
+        return self.w is not self.model.w
+
+    def run(self) -> tuple[str, str]:
+        """Steps until the path ends: ``(termination, reason it is no collapse or "")``."""
+        while self.n_steps < self.settings.max_steps:
+            out = self._step()
+            end = self._accept(out) if out.converged else self._failed(out)
+            if end is not None:
+                return end
+        return "max_steps", self._still_rising()
+
+    def pushover(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(lambda, c)`` along the path so far."""
+        return np.array(self.criteria.lams), np.array(self.criteria.ctrl)
+
+    def _constraint(self, dc: float) -> Constraint:
+        return Constraint(w=self.w, c=float(self.w @ self.point.u) + dc, dc=dc)
+
+    def _step(self) -> Outcome:
+        """One step of the present size, from the predictor if the law uses one."""
+        con = self._constraint(self.dc)
+        corrector, point = self.corrector, self.point
+        if self.model.law.settings.predictor and self.last_dc > 0:
+            # the last increment scaled to this one; the constraint still counts from point
+            scale = self.dc / self.last_dc
+            guess = Iterate(
+                point.u + scale * self.last_du, point.lam + scale * self.last_dlam, None, None
+            )
+            out = corrector.solve(
+                guess, con, self.floor, max_iterations=self.settings.target_iterations
+            )
+            if out.converged:
+                return out
+            self.n_iterations += out.iterations
+        return corrector.solve(point, con, self.floor)
+
+    def _failed(self, out: Outcome) -> tuple[str, str] | None:
+        """A step without equilibrium: shorter step, cascade, control switch, or the end."""
+        self.n_iterations += out.iterations
+        self.last_dc = 0.0
+        if self.dc >= 0.5 * self.dc_cascade * (1 + 1e-12):
+            self.dc_cascade = self.dc
+        self.dc *= 0.5
+        if self.dc >= self.settings.min_step_ratio * self.dc_ref:
+            return None
+        lam = self.point.lam
+        if self.criteria.near_plateau:
+            # the smallest step fails on a plateau reached a while ago: that is the collapse
+            logger.warning("step cut below the minimum on the plateau at lambda = %.6g", lam)
+            return "plateau", ""
+        if self.model.law.keep_breaks(out.point.ev.law):
+            # brittle cascade (mortar cracking that snaps back): keep the cracks of the failed
+            # trial, re-start from the last equilibrium; lambda drops
+            self.n_cascades += 1
+            logger.info("cracking cascade at lambda = %.6g: cracks kept", lam)
+            self.dc = self.dc_cascade
+            return None
+        du_norm = float(np.linalg.norm(self.last_du))
+        if not self.switched and self.du_first > 0 and du_norm > 0:
+            # the path turns away from the fixed control: follow it along the normal plane of
+            # its last increment instead
+            logger.info("control switched to the path direction at lambda = %.6g", lam)
+            self.w = self.last_du / du_norm
+            self.dc = self.dc_cascade = self.dc_ref = self.du_first
+            self.dc_max = self.settings.max_step_factor * self.dc_ref
+            return None
+        return "stalled", "stalled: " + self._stall_message(out)
+
+    def _stall_message(self, out: Outcome) -> str:
+        model = self.model
+        blk, dof = model.block_of_dof(int(np.argmax(np.abs(out.point.residual))))
+        changing = np.flatnonzero(out.point.ev.law.state != model.law.state)
+        return (
+            f"no convergence at lambda = {self.point.lam:.6g} after cutting the step to "
+            f"{self.dc:.3e} m (largest residual at block {blk} {dof}; {len(changing)} "
+            f"interfaces changing state, e.g. {changing[:5].tolist()})"
+        )
+
+    def _accept(self, out: Outcome) -> tuple[str, str] | None:
+        """Commit a converged step, record it, and size the next one."""
+        new, old = out.point, self.point
+        self.floor = out.floor
+        self.n_loose += int(out.loose)
+        self.model.law.commit(new.ev.law)
+        self.n_iterations += out.iterations
+        self.n_steps += 1
+        self.last_du = new.u - old.u
+        self.last_dlam, self.last_dc = new.lam - old.lam, self.dc
+        if self.n_steps == 1:
+            self.du_first = float(np.linalg.norm(self.last_du))
+        if self.switched:
+            self.n_arc += 1
+            self.w = self.last_du / np.linalg.norm(self.last_du)
+        self.point = new
+        self.history.append(new.u.copy())
+        if new.lam > self.peak.lam:
+            law = new.ev.law
+            self.peak = Peak(new.lam, new.u.copy(), law.f.copy(), law.state.copy())
+        # lambda is known to the residual tolerance the step met (relative to the loads)
+        lam_noise = self.corrector.tolerance(new.lam, out.loose) / self.model.live_norm
+        end = self.criteria.add(new.lam, float(self.model.w @ new.u), lam_noise, out.loose)
+        if end is not None:
+            return end, ""
+        # a loose step stalled at a kink of the law, which a shorter step does not remove
+        target = self.settings.target_iterations
+        growth = 1.0 if out.loose else math.sqrt(target / max(out.iterations, 1))
+        self.dc = min(self.dc * min(max(growth, 0.5), 2.0), self.dc_max)
+        return None
+
+    def _still_rising(self) -> str:
+        """Why a path that reached ``max_steps`` is no collapse: how fast lambda still rises."""
+        criteria = self.criteria
+        slope = criteria.secant_slope(self.settings.plateau_steps * criteria.dc0)
+        if slope is None:
+            slope = criteria.secant_slope(0.0)
+        ratio = 0.0 if slope is None or not criteria.slope0 else slope / criteria.slope0
+        reason = (
+            f"still rising at {100 * ratio:.2g} % of the initial slope after max_steps = "
+            f"{self.settings.max_steps}"
+        )
+        logger.warning(reason)
+        return reason

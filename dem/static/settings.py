@@ -1,0 +1,314 @@
+"""Settings of the static collapse analysis: the joints, each interface law, the path.
+
+Each interface law owns its numerical defaults in its own settings object
+(:class:`ResultantLawSettings`, :class:`FibreLawSettings`); :class:`StaticSettings` holds the
+joint properties shared by both laws and the control of the path. Its fields ``alpha``,
+``fibre_points``, ``tangent_floor``, ``predictor`` and ``accept_tolerance`` are shorthands
+that, when given, replace the law's own value (and are refused by a law they do not apply to).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+from typing import ClassVar
+
+ON_FAILURE = ("raise", "return")
+
+
+def _positive(name: str, v, allow_none: bool = False) -> None:
+    if v is None and allow_none:
+        return
+    if isinstance(v, bool) or not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} must be a finite positive number, got {v!r}")
+
+
+def _fraction(name: str, v) -> None:
+    if isinstance(v, bool) or not (isinstance(v, (int, float)) and math.isfinite(v)):
+        raise ValueError(f"{name} must be in [0, 1), got {v!r}")
+    if not 0 <= v < 1:
+        raise ValueError(f"{name} must be in [0, 1), got {v!r}")
+
+
+def _integer(name: str, v, low: int) -> None:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or int(v) != v or v < low:
+        raise ValueError(f"{name} must be an integer >= {low}, got {v!r}")
+
+
+@dataclass(frozen=True)
+class ResultantLawSettings:
+    """Seed 001's elastic-perfectly-plastic law on ``(N, V1, V2, M1, M2, M3)``.
+
+    Attributes
+    ----------
+    alpha : float or None
+        Exponent of Eq. (A5); None: seed Table A1 (column ``f1 = f2``) at each interface's
+        aspect ratio.
+    tangent_floor : float
+        Fraction of the elastic stiffness kept by yielded components of the iteration matrix
+        (the residual uses the exact law). Blocks held only by yielded joints make the tangent
+        nearly singular without it: on seed 001's S11 1e-9 stalls the path, while 1e-6 to 1e-3
+        give the same lambda_max to 0.01 % (1e-4 the fastest).
+    predictor : bool
+        Start each step from the last increment scaled to the new one: without it the first
+        iterate of every step unloaded the joints that keep yielding and the path crept
+        (seed 001 S13 with a fixed column: lambda 0.048 at max_steps, with it a plateau at
+        0.087 in 45 steps).
+    accept_tolerance : float or None
+        Looser residual at which a step stalled at a kink of the law is accepted; None: the
+        analysis tolerance (no loose steps: loosely converged steps committed plastic states
+        from which no shorter step converged).
+    """
+
+    name: ClassVar[str] = "resultant"
+    alpha: float | None = None
+    tangent_floor: float = 1e-4
+    predictor: bool = True
+    accept_tolerance: float | None = None
+
+    def __post_init__(self):
+        if self.alpha is not None and not (math.isfinite(self.alpha) and self.alpha >= 1):
+            raise ValueError(f"alpha must be None or >= 1, got {self.alpha!r}")
+        _fraction("tangent_floor", self.tangent_floor)
+        _positive("accept_tolerance", self.accept_tolerance, allow_none=True)
+        if not isinstance(self.predictor, bool):
+            raise ValueError(f"predictor must be True or False, got {self.predictor!r}")
+
+    def build(self, joints, interfaces):
+        """The law object of a scene's joints (:class:`dem.static.laws.ResultantLaw`)."""
+        from dem.static.laws import ResultantLaw
+
+        return ResultantLaw(joints, self)
+
+
+@dataclass(frozen=True)
+class FibreLawSettings:
+    """A grid of no-tension Mohr-Coulomb springs per interface.
+
+    Attributes
+    ----------
+    points : int
+        Gauss-Lobatto points per side of a rectangular interface: the outer springs lie on
+        the edges, so rocking about an edge is exact.
+    tangent_floor : float
+        As for the resultant law. The fibre law, whose yielded springs are only a part of each
+        joint, converges best near the consistent tangent (1e-9).
+    predictor : bool
+        Start each step from the scaled last increment. Off: the fibre law converges from the
+        last equilibrium in a few iterations, and the predictor's longer steps made its
+        lambda_max vary by 1.7 % with the load step (S15 with return walls; 0.2 % without).
+    accept_tolerance : float or None
+        Looser residual at which a step stalled at a kink (a joint at ``N -> 0``) is accepted;
+        the residual is of the total equilibrium, so the error does not accumulate.
+    """
+
+    name: ClassVar[str] = "fibre"
+    points: int = 5
+    tangent_floor: float = 1e-9
+    predictor: bool = False
+    accept_tolerance: float | None = 1e-4
+
+    def __post_init__(self):
+        _integer("fibre points", self.points, 2)
+        _fraction("tangent_floor", self.tangent_floor)
+        _positive("accept_tolerance", self.accept_tolerance, allow_none=True)
+        if not isinstance(self.predictor, bool):
+            raise ValueError(f"predictor must be True or False, got {self.predictor!r}")
+
+    def build(self, joints, interfaces):
+        """The law object of a scene's joints (:class:`dem.static.laws.FibreLaw`)."""
+        from dem.static.laws import FibreLaw
+
+        return FibreLaw(joints, interfaces, self)
+
+
+LAWS = {law.name: law for law in (ResultantLawSettings, FibreLawSettings)}
+
+# StaticSettings shorthand -> (law field, laws it applies to)
+_LAW_SHORTHANDS = {
+    "alpha": ("alpha", ("resultant",)),
+    "fibre_points": ("points", ("fibre",)),
+    "tangent_floor": ("tangent_floor", ("resultant", "fibre")),
+    "predictor": ("predictor", ("resultant", "fibre")),
+    "accept_tolerance": ("accept_tolerance", ("resultant", "fibre")),
+}
+
+
+@dataclass(frozen=True)
+class StaticSettings:
+    """Settings of :func:`dem.static.solve_collapse`.
+
+    Attributes
+    ----------
+    interface_model : {"resultant", "fibre"} or None
+        The interface law with its default settings; None: the name of ``law``, or
+        "resultant". After construction it holds the name of the law used.
+    law : ResultantLawSettings or FibreLawSettings or None
+        The interface law with its own settings; None: the defaults of ``interface_model``.
+        The law used, with the shorthands below applied, is :attr:`law_settings`.
+    kn, kt : float
+        Normal and tangential stiffness per unit area [Pa/m]. Default: seed 001 Sec. 2.1
+        (2.4 MPa/mm and 1 MPa/mm). The collapse load of rigid blocks does not depend on them.
+    kr : float or None
+        Rotational stiffness per unit area [Pa/m]; None: ``kn`` (seed 001, ``k_r = k_n``).
+    mu : float or None
+        Friction coefficient; None: the smaller of the two blocks' ``Assembly.mu``.
+    tensile_strength : float
+        [Pa]; 0 for dry joints.
+    cohesion : float or None
+        [Pa]; None: ``mu * tensile_strength`` (seed 001, Sec. 2.1).
+    compressive_strength : float or None
+        Joint compressive strength f_c [Pa], both laws; None for unlimited. Without it,
+        arching between rigid supports can grow without bound.
+    tension_at_supports : bool
+        Whether interfaces with a fixed block get the tensile strength and cohesion (False
+        models a support as a dry hinge).
+    alpha, fibre_points, tangent_floor, predictor, accept_tolerance : optional
+        Shorthands for the law's ``alpha``, ``points``, ``tangent_floor``, ``predictor`` and
+        ``accept_tolerance`` (None: the law's own value).
+    load_step : float
+        First live-load increment as a fraction of ``lambda_scale = |F_D| / |F_L|`` (total
+        dead over total live force): for a live load equal to the weight, ``d lambda``.
+    max_step_factor : float
+        Largest control increment, in first increments.
+    max_steps : int
+        Live-load steps at most.
+    max_iterations : int
+        Newton iterations per step before the step is cut.
+    target_iterations : int
+        Iterations the step size adapts to.
+    tolerance : float
+        Relative residual ``|R| / (|F_D| + |lambda F_L|)`` for convergence.
+    min_step_ratio : float
+        Smallest control increment, relative to the first, before giving up a step.
+    plateau_slope : float
+        A step is on the collapse plateau when ``d lambda / d c`` is below this fraction of
+        the initial secant slope (measured back over at least the control length at which
+        the residual tolerance's noise in lambda is a tenth of the allowed rise).
+    plateau_steps : int
+        Consecutive plateau steps that end the analysis, if they also span this many first
+        control increments.
+    plateau_rise, plateau_window : float
+        While lambda still rises at every step, a plateau also needs its peak to have risen
+        by less than ``plateau_rise`` of itself over the last ``plateau_window`` of the
+        control displacement (:mod:`dem.collapse_criteria`): slow frictional hardening is not
+        taken for the collapse.
+    softening_drop : float
+        End when lambda falls below ``(1 - softening_drop) lambda_max``.
+    dead_steps : int
+        Increments of the dead load.
+    monitor : tuple of (int, int) or None
+        ``(block, dof)`` whose displacement the pushover also records; None: the free block
+        with the largest live-direction translation in the mechanism.
+    on_failure : {"raise", "return"}
+        When the analysis ends without a collapse (no mechanism exists, ``max_steps`` reached
+        while lambda still rises, or a step that converges at no increment): raise
+        :class:`dem.static.NoCollapseError` (its ``result`` holds the partial path), or return
+        the partial path with ``collapsed = False``, its ``termination`` and the reason in
+        ``failure``.
+    """
+
+    interface_model: str | None = None
+    law: ResultantLawSettings | FibreLawSettings | None = None
+    kn: float = 2.4e9
+    kt: float = 1.0e9
+    kr: float | None = None
+    mu: float | None = None
+    tensile_strength: float = 0.0
+    cohesion: float | None = None
+    compressive_strength: float | None = None
+    tension_at_supports: bool = True
+    alpha: float | None = None
+    fibre_points: int | None = None
+    tangent_floor: float | None = None
+    predictor: bool | None = None
+    accept_tolerance: float | None = None
+    load_step: float = 0.01
+    max_step_factor: float = 200.0
+    max_steps: int = 400
+    max_iterations: int = 30
+    target_iterations: int = 10
+    tolerance: float = 1e-6
+    min_step_ratio: float = 1e-4
+    plateau_slope: float = 2e-3
+    plateau_steps: int = 4
+    plateau_rise: float = 1e-3
+    plateau_window: float = 0.5
+    softening_drop: float = 0.2
+    dead_steps: int = 1
+    monitor: tuple[int, int] | None = None
+    on_failure: str = "raise"
+
+    def __post_init__(self):
+        self._check_choices()
+        for name in ("kn", "kt", "load_step", "tolerance", "max_step_factor"):
+            _positive(name, getattr(self, name))
+        _positive("kr", self.kr, allow_none=True)
+        _positive("compressive_strength", self.compressive_strength, allow_none=True)
+        for name in ("mu", "cohesion"):
+            v = getattr(self, name)
+            if v is not None and not (math.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be None or finite and >= 0, got {v!r}")
+        if not (math.isfinite(self.tensile_strength) and self.tensile_strength >= 0):
+            raise ValueError(f"tensile_strength must be >= 0 [Pa], got {self.tensile_strength}")
+        for name in ("max_steps", "max_iterations", "target_iterations", "plateau_steps"):
+            _integer(name, getattr(self, name), 1)
+        _integer("dead_steps", self.dead_steps, 1)
+        for name in (
+            "min_step_ratio",
+            "plateau_slope",
+            "softening_drop",
+            "plateau_rise",
+            "plateau_window",
+        ):
+            _fraction(name, getattr(self, name))
+        law = self._resolved_law()
+        object.__setattr__(self, "_law", law)
+        object.__setattr__(self, "interface_model", law.name)
+
+    @property
+    def law_settings(self) -> ResultantLawSettings | FibreLawSettings:
+        """The interface law used, with the shorthands applied."""
+        return self._law
+
+    def _check_choices(self):
+        if self.on_failure == "stop":
+            raise ValueError(
+                "on_failure='stop' is no longer accepted: use 'return' to get the partial "
+                "path back flagged collapsed=False, or 'raise' (default) for a NoCollapseError"
+            )
+        if self.on_failure not in ON_FAILURE:
+            raise ValueError(f"on_failure must be one of {ON_FAILURE}, got {self.on_failure!r}")
+        if self.interface_model is not None and self.interface_model not in LAWS:
+            raise ValueError(
+                f"interface_model must be one of {tuple(LAWS)}, got {self.interface_model!r}"
+            )
+        if self.law is None:
+            return
+        if not isinstance(self.law, tuple(LAWS.values())):
+            raise ValueError(f"law must be one of {[c.__name__ for c in LAWS.values()]}")
+        if self.interface_model not in (None, self.law.name):
+            raise ValueError(
+                f"interface_model {self.interface_model!r} contradicts law "
+                f"{type(self.law).__name__}: give one of them"
+            )
+
+    def _resolved_law(self):
+        """The law's settings with the shorthands given here applied."""
+        law = self.law if self.law is not None else LAWS[self.interface_model or "resultant"]()
+        changes = {}
+        for short, (field_name, applies) in _LAW_SHORTHANDS.items():
+            value = getattr(self, short)
+            if value is None:
+                continue
+            if law.name not in applies:
+                raise ValueError(f"{short} does not apply to the {law.name} law")
+            changes[field_name] = value
+        return replace(law, **changes) if changes else law
+
+    def to_dict(self) -> dict:
+        """The settings as plain values (the law as a dict with its name)."""
+        out = {f.name: getattr(self, f.name) for f in fields(self)}
+        law = self.law_settings
+        out["law"] = {"name": law.name, **{f.name: getattr(law, f.name) for f in fields(law)}}
+        return out

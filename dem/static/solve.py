@@ -1,0 +1,156 @@
+"""``solve_collapse``: dead load, mechanism check, path to collapse, result."""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+
+from dem.scene import Scene
+from dem.static.mechanism import no_mechanism_reason
+from dem.static.model import Model
+from dem.static.newton import Corrector, Iterate, solve_dead_load
+from dem.static.path import PathFollower, Peak
+from dem.static.result import COLLAPSE_TERMINATIONS, NoCollapseError, StaticResult
+from dem.static.settings import StaticSettings
+
+logger = logging.getLogger(__name__)
+
+
+def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> StaticResult:
+    r"""Dead load, then the live load to collapse (seed 001, Sec. 2.3).
+
+    Parameters
+    ----------
+    scene : Scene
+        Blocks, supports, dead load (self weight + ``dead_wrench``) and the live pattern
+        ``live_wrench`` scaled by lambda.
+    settings : StaticSettings, optional
+
+    Returns
+    -------
+    StaticResult
+        ``collapsed`` says whether ``lambda_max`` is a collapse multiplier.
+
+    Raises
+    ------
+    ValueError
+        Bad inputs (no interfaces, no free dof, no friction coefficient, zero live load).
+    StaticSolverError
+        Unsupported blocks (singular stiffness before any load), no equilibrium under the dead
+        load, NaN; the message names the blocks or interfaces involved.
+    NoCollapseError
+        With ``on_failure="raise"`` (default): the run ended without a collapse (no mechanism
+        exists, ``max_steps`` reached while lambda still rises, or stalled); ``reason`` says
+        which and ``result`` holds the partial path.
+
+    Notes
+    -----
+    The path following (control, step size, cascades, end) is described in
+    :mod:`dem.static.path`, the Newton corrector in :mod:`dem.static.newton`, the mechanism
+    check in :mod:`dem.static.mechanism`.
+
+    Limitations found on the seed 001 specimens: kinematics are small-displacement, so the
+    fibre law's rocking uplift against immovable supports (fixed columns) builds unbounded
+    arching unless a ``compressive_strength`` bounds it. The resultant law has no uplift (its
+    hinges rotate about the joint centroid), so with fixed columns the wall rather overturns
+    about its base, sliding along the column.
+    """
+    start = time.perf_counter()
+    settings = StaticSettings() if settings is None else settings
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a dem.scene.Scene, got {type(scene).__name__}")
+    model = Model(scene, settings)
+    corrector = Corrector(model, settings)
+    dead, n_iter = solve_dead_load(corrector)
+    logger.debug("dead load: %d iterations", n_iter)
+    reason = "" if settings.compressive_strength else no_mechanism_reason(model)
+    if reason:
+        return _finish(model, _Unloaded(model, dead, n_iter), "no_mechanism", reason, start)
+    path = PathFollower(model, corrector, dead, n_iter)
+    termination, reason = path.run()
+    return _finish(model, path, termination, reason, start)
+
+
+class _Unloaded:
+    """The path of a run that never starts (no mechanism): the dead-load point only, with
+    an unbounded multiplier."""
+
+    def __init__(self, model: Model, dead: Iterate, n_iter: int):
+        self.point = dead
+        self.history = [dead.u.copy()]
+        self.peak = Peak(math.inf, dead.u.copy(), dead.ev.law.f.copy(), model.law.state.copy())
+        self.last_du = np.zeros_like(dead.u)
+        self.c0 = float(model.w @ dead.u)
+        self.n_steps, self.n_iterations = 0, n_iter
+        self.n_loose = self.n_cascades = self.n_arc = 0
+
+    def pushover(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.zeros(1), np.array([self.c0])
+
+
+def _monitor(model: Model, settings: StaticSettings, mech: np.ndarray) -> tuple[int, int]:
+    """The ``(block, dof)`` recorded along the pushover."""
+    if settings.monitor is not None:
+        mon = (int(settings.monitor[0]), int(settings.monitor[1]))
+        if not (0 <= mon[0] < model.n_blocks and 0 <= mon[1] < 6):
+            raise ValueError(f"monitor {settings.monitor} is not a (block, dof) of the scene")
+        return mon
+    live_dir = model.scene.loads.live_wrench[:, :3].sum(axis=0)
+    dof = int(np.argmax(np.abs(live_dir)))
+    return int(np.argmax(np.abs(mech[:, dof]))), dof
+
+
+def _finish(model: Model, path, termination: str, reason: str, start: float) -> StaticResult:
+    """The :class:`StaticResult` of a run; raise :class:`NoCollapseError` per ``on_failure``."""
+    settings = model.settings
+    mech = model.full(path.last_du)
+    scale = np.abs(mech[:, :3]).max()
+    mech = mech / scale if scale > 0 else mech
+    mon = _monitor(model, settings, mech)
+    idx = model.dof_index[mon]
+    history = np.array(path.history)
+    lams, ctrl = path.pushover()
+    end = model.evaluate(path.point.u, settings.law_settings.tangent_floor)
+    collapsed = termination in COLLAPSE_TERMINATIONS
+    peak = path.peak
+    result = StaticResult(
+        lambda_max=float(peak.lam),
+        collapsed=collapsed,
+        pushover_lambda=lams,
+        pushover_control=ctrl,
+        pushover_monitor=history[:, idx] if idx >= 0 else np.zeros(len(history)),
+        monitor=mon,
+        interface_state=model.law.state.copy(),
+        interface_state_at_peak=peak.state,
+        interface_forces=peak.f,
+        interface_forces_end=end.law.f,
+        mechanism=mech,
+        displacements=model.full(path.point.u),
+        displacements_at_peak=model.full(peak.u),
+        block_a=model.a.copy(),
+        block_b=model.b.copy(),
+        n_steps=path.n_steps,
+        n_iterations=path.n_iterations,
+        n_loose_steps=path.n_loose,
+        n_cascades=path.n_cascades,
+        n_arc_steps=path.n_arc,
+        failure="" if collapsed else reason,
+        termination=termination,
+        wall_s=time.perf_counter() - start,
+        settings=settings.to_dict(),
+    )
+    logger.info(
+        "%s: lambda_max = %.6g after %d steps, %d iterations, %.2f s (%s)",
+        "collapse" if collapsed else "no collapse",
+        result.lambda_max,
+        result.n_steps,
+        result.n_iterations,
+        result.wall_s,
+        termination,
+    )
+    if not collapsed and settings.on_failure == "raise":
+        raise NoCollapseError(reason, result)
+    return result
