@@ -24,6 +24,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from validation.report import is_published  # noqa: E402
+
 RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
 OUT = Path(__file__).resolve().parent / "out"
 FLOOR = 1e-16
@@ -44,12 +46,6 @@ def method_of(case: str) -> str:
         if case.startswith(prefix):
             return label
     return "other"
-
-
-def is_published(source: str) -> bool:
-    """A seed's table or reported experiment (model error), not a numerical reference."""
-    s = source.lower()
-    return s.startswith("seed ") and ("table" in s or "experiment" in s)
 
 
 def collect() -> dict:

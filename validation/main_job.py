@@ -2,7 +2,7 @@
 
 The summary separates numerical errors (rows whose reference is a closed form, an exact count
 or another method) from model errors (rows whose reference is a seed's table or experiment),
-as ``paper_figures/fig_speed_error.py`` does.
+by :func:`validation.report.is_published`, as ``paper_figures/fig_speed_error.py`` does.
 """
 
 from __future__ import annotations
@@ -15,13 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from validation.quiet import quiet, table
-from validation.report import Row
-
-
-def is_published(source: str) -> bool:
-    """A seed's table or reported experiment (a model error), not a numerical reference."""
-    s = source.lower()
-    return s.startswith("seed ") and ("table" in s or "experiment" in s)
+from validation.report import Row, is_published
 
 
 @dataclass(frozen=True)

@@ -39,6 +39,13 @@ _STAGING: contextvars.ContextVar[Path | None] = contextvars.ContextVar("staging"
 _PACKAGES = ("numpy", "scipy", "numba", "scikit-fem", "gmsh", "meshio", "cvxpy", "clarabel")
 
 
+def is_published(source: str) -> bool:
+    """A reference from a seed's table or reported experiment (its difference is a model
+    error), as opposed to a numerical reference (closed form, exact count, another method)."""
+    s = source.lower()
+    return s.startswith("seed ") and ("table" in s or "experiment" in s)
+
+
 @dataclass
 class Row:
     """One line of a validation table.

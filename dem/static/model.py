@@ -55,6 +55,15 @@ def joint_arrays(scene: Scene, settings: StaticSettings) -> JointArrays:
         mu = np.minimum(scene.assembly.mu[a], scene.assembly.mu[b])
     else:
         raise ValueError("no friction coefficient: set StaticSettings.mu or Assembly.mu")
+    rigid = np.flatnonzero(~np.isfinite(mu))
+    if rigid.size:
+        pairs = ", ".join(f"{k} (blocks {a[k]}-{b[k]})" for k in rigid[:10])
+        raise ValueError(
+            f"the static DEM needs a finite friction coefficient; mu = inf (no sliding) at "
+            f"interfaces {pairs}{' ...' if rigid.size > 10 else ''}. The limit analysis and the "
+            "explicit DEM take mu = inf; here set StaticSettings(mu=...) or a large finite "
+            "Assembly.mu (sliding then needs that many times the normal force)"
+        )
     tensile = np.full(m, settings.tensile_strength)
     cohesion = mu * tensile if settings.cohesion is None else np.full(m, settings.cohesion)
     if not settings.tension_at_supports:

@@ -186,3 +186,23 @@ def test_compressive_strength_bounds_arching_between_rigid_columns():
     assert result.collapsed
     assert result.lambda_max <= upper
     assert (result.interface_state_at_peak & 8).any()  # some joints crush
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_no_sliding_is_refused_by_name_not_failed_on(model):
+    # mu = inf (no sliding) is a valid scene; the elastic-plastic joints need a finite mu, so
+    # the static DEM refuses it naming the interface (it gave a NaN error for the resultant law
+    # and a ZeroDivisionError for the fibre law), and a large finite mu still overturns at b/h
+    ground = np.array([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-0.2, 0.0)])
+    pier = np.array([(x, y, z) for x in (-0.2, 0.2) for y in (-0.1, 0.1) for z in (0.0, 0.6)])
+    for mu, expect in ((np.inf, None), (1e3, 0.4 / 0.6)):
+        scene = Scene.from_convex_blocks([ground, pier], density=2000.0, fixed=[0], mu=mu)
+        scene = scene.with_loads(live=proportional_to_weight(scene.assembly, (1.0, 0.0, 0.0)))
+        settings = StaticSettings(interface_model=model)
+        if expect is None:
+            with pytest.raises(ValueError, match=r"finite friction.*interfaces 0 \(blocks 0-1\)"):
+                solve_collapse(scene, settings)
+        else:
+            np.testing.assert_allclose(
+                solve_collapse(scene, settings).lambda_max, expect, rtol=2e-3
+            )

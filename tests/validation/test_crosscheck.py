@@ -171,6 +171,13 @@ def test_verdict_explains_disagreeing_laws():
     assert "differ by 3.8 % only" in check.detail and "15% of its upper bound" in check.detail
 
 
+def test_laws_without_a_finite_pair_are_not_compared():
+    fib = {"lambda_max": math.inf, "termination": "no_mechanism", "collapsed": False}
+    res = {"lambda_max": 0.3, "termination": "plateau", "collapsed": True}
+    checks = verdict(_ctx(**{"dem-fibre": fib, "dem-resultant": res}))
+    assert _status(checks, "the two DEM laws agree") == "n/a"
+
+
 def test_unbounded_limit_and_no_dem_collapse_agree():
     stalled = {"lambda_max": 70.0, "termination": "max_steps", "collapsed": False}
     ctx = _ctx(**{"limit-vertex": {"upper": math.inf, "unbounded": True}, "dem-fibre": stalled})

@@ -31,5 +31,12 @@ def test_case_quick_smoke(tmp_path):
     rows, notes = case.run(quick=True, out_root=tmp_path)
     verdicts = {k for k in ("readme", "orduna-3x13", "tis-3x3", "arch") if f"{k}: " in notes}
     assert len(verdicts) == 4
-    assert "readme: consistent" in notes and "arch: consistent" in notes
+    assert {r.extra["outcome"] for r in rows} <= {"pass", "fail", "n/a"}
+    # limit analysis, static DEM and FEM agree on the README scene and the arch (the explicit
+    # DEM's lines report on that method and are not asserted here)
+    for key in ("readme", "arch"):
+        lines = [
+            r for r in rows if r.quantity.startswith(f"{key}: ") and "explicit" not in r.quantity
+        ]
+        assert lines and all(r.extra["outcome"] != "fail" for r in lines), key
     assert (tmp_path / "arch" / "report.md").exists()

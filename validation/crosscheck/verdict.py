@@ -172,8 +172,10 @@ def agreement_check(ctx: Context, agree_rtol: float) -> list[Check]:
     if fib is None or res is None:
         return []
     a, b = fib.values["lambda_max"], res.values["lambda_max"]
-    diff = abs(a - b) / max(abs(a), abs(b), 1e-300)
     name = "the two DEM laws agree"
+    if not (math.isfinite(a) and math.isfinite(b)):
+        return [Check(name, NA, None, agree_rtol, f"fibre {a}, resultant {b}: no finite pair")]
+    diff = abs(a - b) / max(abs(a), abs(b), 1e-300)
     if diff <= agree_rtol:
         return [Check(name, PASS, diff, agree_rtol, f"fibre {a:.6g}, resultant {b:.6g}")]
     why = []
