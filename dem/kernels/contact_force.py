@@ -147,8 +147,8 @@ def contact_entries(
         depth up to ``b``'s edges, going continuously to zero over an overhang equal to the
         depth. A node more than the list's ``margin`` [m] below that plane (or with no such
         face) cannot have come in through it within a list period: it takes the nearest
-        plane (a node at the corner of a block standing on two, next to the other, is on the
-        neighbour's side plane and a block's height below its top face). A ``compat_cos``
+        plane (a node on the side face of a block standing on a longer block is on that
+        block's top plane and far below its end face). A ``compat_cos``
         above 1 switches this off: nearest plane always, the exact convex signed distance,
         which gives a node on an edge shared with ``b`` the depth ``min(d_c, -delta)``,
         about zero, so a hinge along such an edge carries nothing there.
@@ -169,8 +169,10 @@ def contact_entries(
     distance ``phi > 0`` outside ``b`` must move by at least ``phi`` relative to ``b`` before
     it can penetrate. ``drift[k]`` accumulates a bound on how far any point of block ``k``
     within the list's reach has moved (:func:`dem.kernels.integrate.run_steps`); an entry found
-    separated stores ``skip_gap = phi`` and ``skip_drift = drift[a] + drift[b]`` and is not
-    evaluated again until ``drift[a] + drift[b] - skip_drift >= skip_gap``. Its force and
+    separated stores ``skip_gap = phi`` (compatible plane: half of ``max(0, delta) - d_c``,
+    which changes at most twice as fast as the node moves) and ``skip_drift = drift[a] +
+    drift[b]`` and is not evaluated again until ``drift[a] + drift[b] - skip_drift >=
+    skip_gap``. Its force and
     shear history are zero meanwhile, as an evaluation would give: the result is exactly that
     of evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated
     values). Level sets are not a distance bound: no skipping there.
@@ -245,6 +247,9 @@ def contact_entries(
                 elif dist > best_o:
                     best_o = dist
                     f_o = g
+            # contact in either case needs best_c + max(best_o, 0) < 0, a 2-Lipschitz
+            # function of the node's position: half of it bounds the motion to contact
+            bound = 0.5 * (best_c + max(best_o, 0.0)) if f_c >= 0 else best_o
             if best_c >= -margin:
                 phi, f = best_c + max(best_o, 0.0), f_c
             elif best_c > best_o:
@@ -256,6 +261,7 @@ def contact_entries(
             phi, f = convex_sdf_one(
                 X0, X1, X2, face_normal, face_offset, face_ptr[b], face_ptr[b + 1]
             )
+            bound = phi
             g0, g1, g2 = face_normal[f, 0], face_normal[f, 1], face_normal[f, 2]
         out_depth[e] = -phi
         if phi >= 0.0 or pair_weight[e] == 0.0:
@@ -265,8 +271,8 @@ def contact_entries(
             out_force[e, 0] = 0.0
             out_force[e, 1] = 0.0
             out_force[e, 2] = 0.0
-            if phi > 0.0 and not use_level_set:
-                skip_gap[e] = phi
+            if not use_level_set and bound > 0.0:
+                skip_gap[e] = bound
                 skip_drift[e] = drift[a] + drift[b]
             continue
         skip_gap[e] = 0.0
