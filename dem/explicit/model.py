@@ -20,7 +20,6 @@ import scipy.spatial
 
 from dem.contact_nodes import FACE_ANGLE_DEG, ContactNodes, build_level_sets, seed_contact_nodes
 from dem.explicit.settings import (
-    EDGE_TOL,
     INDENTER_NODES_PER_RADIUS_INV,
     PARALLEL_MIN_ENTRIES,
     ExplicitSettings,
@@ -160,7 +159,7 @@ class ExplicitModel:
             MU_RULE_MIN if settings.mu_rule == "min" else MU_RULE_MEAN,
             math.cos(math.radians(FACE_ANGLE_DEG)) if settings.contact_plane == "compatible"
             else 2.0,
-            EDGE_TOL * settings.node_spacing, float(settings.margin),
+            float(settings.margin),
         )  # fmt: skip
         self.parallel = (
             settings.parallel

@@ -11,9 +11,6 @@ from dem.units import MM
 
 INDENTER_NODES_PER_RADIUS_INV = 0.1
 """Default indenter node spacing as a fraction of the tip radius."""
-EDGE_TOL = 1e-6
-"""Lateral tolerance of the compatible-plane contact, relative to the node spacing: nodes on an
-edge shared with the neighbour's face count as inside."""
 STOP_PERSIST = 0.2 * MM
 """Travel over which a drop below ``stop_below_peak_fraction`` must persist to stop [m]."""
 PARALLEL_MIN_ENTRIES = 20000
@@ -56,7 +53,9 @@ class ExplicitSettings:
         With face planes: penetration and normal from the nearest plane of the neighbour (the
         exact convex signed distance; default), or from the nearest plane among the
         neighbour's faces that face the node's own face (keeps a conforming interface
-        conforming next to the neighbour's edges).
+        conforming next to the neighbour's edges). With ``node_layout="vertex"`` and
+        neighbours sharing edges (masonry), use "compatible": the nearest plane gives the
+        nodes on a shared edge about zero depth, so a hinge there carries nothing.
     signed_distance : {"planes", "level_set"}
         Exact face planes of the convex blocks (default) or trilinear level-set grids.
     level_set_spacing : float

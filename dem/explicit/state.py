@@ -129,8 +129,6 @@ class Law(NamedTuple):
     compat_cos : float
         Normal-compatible face planes (see :func:`dem.kernels.contact_force.contact_entries`);
         above 1: off (nearest plane).
-    edge_tol : float
-        Lateral tolerance of the compatible-plane contact [m].
     margin : float
         Neighbour-list margin [m].
     """
@@ -140,7 +138,6 @@ class Law(NamedTuple):
     beta: float
     mu_rule: int
     compat_cos: float
-    edge_tol: float
     margin: float
 
 

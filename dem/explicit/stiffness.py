@@ -96,6 +96,11 @@ def masonry_settings(
     ``k_n`` from :func:`k_n_from_material`; nodes at the corners of a grid whose spacing is the
     smallest block dimension over :data:`NODES_PER_EDGE` (``node_layout="vertex"``: the outer
     nodes lie on the face edges, so a block rocks about its true edge and ``b / h`` is exact);
+    penetration from the neighbour's face plane that faces the node (``contact_plane=
+    "compatible"``: with the nearest plane, a node on an edge shared with an equal neighbour,
+    as in a stack of equal blocks or at every joint of an arch, is about as near the
+    neighbour's side plane and carries nothing where the hinge forms, so a column of three
+    boxes rocked about its middle joint at half its lever arm);
     no global viscous damping (it would resist the mechanism itself) but local damping
     :data:`LOCAL_DAMPING` (it damps the vibrations of the slow modes of a wall, which the
     contact dashpots tuned to ``omega_max`` leave nearly undamped). Keyword arguments override
@@ -108,6 +113,7 @@ def masonry_settings(
         "k_n": k_n_from_material(scene, young, joint_stiffness),
         "node_spacing": spacing,
         "node_layout": "vertex",
+        "contact_plane": "compatible",
         "margin": 0.5 * spacing,
         "global_damping": 0.0,
         "local_damping": LOCAL_DAMPING,

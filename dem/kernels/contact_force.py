@@ -139,12 +139,19 @@ def contact_entries(
     shapes : Shapes
         Face planes (CSR by block) or level-set grids (``use_level_set``).
     law : Law
-        ``k_n``, ``k_t`` [Pa/m], ``beta`` [s], ``mu_rule``, and ``compat_cos``, ``edge_tol``
-        [m]: with face planes, a node inside ``b`` takes its penetration and normal from the
-        nearest plane among ``b``'s faces whose normal is within ``acos(compat_cos)`` of the
-        reverse of the node's face normal, provided the node is within ``edge_tol`` of ``b``'s
-        other face planes (falls back to the nearest plane if no face qualifies); a value
-        above 1 switches this off (nearest plane always, the exact convex signed distance).
+        ``k_n``, ``k_t`` [Pa/m], ``beta`` [s], ``mu_rule`` and ``compat_cos``: with face
+        planes, a node takes its normal from the nearest plane among ``b``'s faces whose
+        normal is within ``acos(compat_cos)`` of the reverse of the node's face normal, and
+        the penetration ``d_c`` below that plane less ``max(0, delta)``, ``delta`` the
+        distance outside ``b``'s other face planes (the nearest one, negative inside): full
+        depth up to ``b``'s edges, going continuously to zero over an overhang equal to the
+        depth. A node more than the list's ``margin`` [m] below that plane (or with no such
+        face) cannot have come in through it within a list period: it takes the nearest
+        plane (a node on the side face of a block standing on a longer block is on that
+        block's top plane and far below its end face). A ``compat_cos``
+        above 1 switches this off: nearest plane always, the exact convex signed distance,
+        which gives a node on an edge shared with ``b`` the depth ``min(d_c, -delta)``,
+        about zero, so a hinge along such an edge carries nothing there.
     dt : float
         Time step [s].
     scratch : Scratch
@@ -162,8 +169,10 @@ def contact_entries(
     distance ``phi > 0`` outside ``b`` must move by at least ``phi`` relative to ``b`` before
     it can penetrate. ``drift[k]`` accumulates a bound on how far any point of block ``k``
     within the list's reach has moved (:func:`dem.kernels.integrate.run_steps`); an entry found
-    separated stores ``skip_gap = phi`` and ``skip_drift = drift[a] + drift[b]`` and is not
-    evaluated again until ``drift[a] + drift[b] - skip_drift >= skip_gap``. Its force and
+    separated stores ``skip_gap = phi`` (compatible plane: half of ``max(0, delta) - d_c``,
+    which changes at most twice as fast as the node moves) and ``skip_drift = drift[a] +
+    drift[b]`` and is not evaluated again until ``drift[a] + drift[b] - skip_drift >=
+    skip_gap``. Its force and
     shear history are zero meanwhile, as an evaluation would give: the result is exactly that
     of evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated
     values). Level sets are not a distance bound: no skipping there.
@@ -177,7 +186,7 @@ def contact_entries(
     ls_origin, ls_spacing, ls_dims = shapes.ls_origin, shapes.ls_spacing, shapes.ls_dims
     ls_ptr, ls_values, use_level_set = shapes.ls_ptr, shapes.ls_values, shapes.use_level_set
     k_n, k_t, beta, mu_rule = law.k_n, law.k_t, law.beta, law.mu_rule
-    compat_cos, edge_tol = law.compat_cos, law.edge_tol
+    compat_cos, margin = law.compat_cos, law.margin
     out_force, out_point, out_depth = scratch.out_force, scratch.out_point, scratch.out_depth
     skip_gap, skip_drift, drift = scratch.skip_gap, scratch.skip_drift, scratch.drift
     for e in range(e_begin, e_end):
@@ -211,7 +220,7 @@ def contact_entries(
         elif compat_cos <= 1.0:
             # normal-compatible face: among b's faces facing the node's own face, the nearest
             # plane gives penetration and normal; b's other faces only bound the contact
-            # laterally (with tolerance edge_tol, so that nodes on a shared edge count)
+            # laterally, continuously (a node on a shared edge keeps its full depth)
             m0, m1, m2 = node_n0[i, 0], node_n0[i, 1], node_n0[i, 2]
             w0 = rot[a, 0, 0] * m0 + rot[a, 0, 1] * m1 + rot[a, 0, 2] * m2
             w1 = rot[a, 1, 0] * m0 + rot[a, 1, 1] * m1 + rot[a, 1, 2] * m2
@@ -238,17 +247,21 @@ def contact_entries(
                 elif dist > best_o:
                     best_o = dist
                     f_o = g
-            if f_c < 0:
-                phi, f = best_o, f_o
-            elif best_c < 0.0 and best_o <= edge_tol:
+            # contact in either case needs best_c + max(best_o, 0) < 0, a 2-Lipschitz
+            # function of the node's position: half of it bounds the motion to contact
+            bound = 0.5 * (best_c + max(best_o, 0.0)) if f_c >= 0 else best_o
+            if best_c >= -margin:
+                phi, f = best_c + max(best_o, 0.0), f_c
+            elif best_c > best_o:
                 phi, f = best_c, f_c
             else:
-                phi, f = max(best_c, best_o, 0.0), f_c
+                phi, f = best_o, f_o
             g0, g1, g2 = face_normal[f, 0], face_normal[f, 1], face_normal[f, 2]
         else:
             phi, f = convex_sdf_one(
                 X0, X1, X2, face_normal, face_offset, face_ptr[b], face_ptr[b + 1]
             )
+            bound = phi
             g0, g1, g2 = face_normal[f, 0], face_normal[f, 1], face_normal[f, 2]
         out_depth[e] = -phi
         if phi >= 0.0 or pair_weight[e] == 0.0:
@@ -258,8 +271,8 @@ def contact_entries(
             out_force[e, 0] = 0.0
             out_force[e, 1] = 0.0
             out_force[e, 2] = 0.0
-            if phi > 0.0 and not use_level_set:
-                skip_gap[e] = phi
+            if not use_level_set and bound > 0.0:
+                skip_gap[e] = bound
                 skip_drift[e] = drift[a] + drift[b]
             continue
         skip_gap[e] = 0.0
