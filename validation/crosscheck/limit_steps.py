@@ -72,10 +72,15 @@ class LimitBounds:
         skipped = skip_without_collapse(self, scene, ctx)
         if skipped is not None:
             return skipped
-        settings = {**self.settings.to_dict(), "max_updates": self.max_updates}
+        limit_settings = self.settings
+        dead = ctx.ok("dead-load")
+        if dead is not None and dead.values["stands"] and dead.settings == limit_settings.to_dict():
+            # the dead-load step already proved it under the same settings: not twice
+            limit_settings = limit_settings.with_(dead_load_check=False)
+        settings = {**limit_settings.to_dict(), "max_updates": self.max_updates}
         try:
             b = bounds_and_estimates(
-                scene, self.settings, max_updates=self.max_updates, strict=False
+                scene, limit_settings, max_updates=self.max_updates, strict=False
             )
         except NoMechanismError as exc:
             values = {"upper": math.inf, "unbounded": True}
