@@ -187,6 +187,12 @@ def _seed_spread() -> tuple[np.ndarray, str]:
     return np.array(real) / det, f"tis-friction ({mode}, 5x5 theta=5, {len(real)} realisations)"
 
 
+def _discretisation_note(disc: dict, quick: bool) -> str:
+    """The sentence of a TIS study's notes that states its discretisation."""
+    settings = ", ".join(f"{k}={v}" for k, v in disc.items())
+    return f"Discretisation: {settings}" + (" (quick: coarse, not converged)." if quick else ".")
+
+
 def run_friction_uq(quick: bool):
     """Per-block random mu on the 5 x 5, theta = 2.5 deg panel (k_imp)."""
     n_real = 8 if quick else 64
@@ -281,9 +287,7 @@ def run_friction_uq(quick: bool):
         f"Seed's spread: {seed_label}, P_max over its own deterministic run. Failure mode: "
         "'central out' = the loaded block drops by more than half the thickness while no other "
         "drops by 30 % of that; 'not out' = still carrying 10 % of the peak at 6 mm. "
-        "Discretisation: "
-        + ", ".join(f"{k}={v}" for k, v in base["disc"].items())
-        + (" (quick: coarse, not converged)." if quick else ".")
+        + _discretisation_note(base["disc"], quick)
     )
     return rows, notes
 
@@ -375,9 +379,7 @@ def run_gaps_uq(quick: bool):
         f"Relaxation: at least {GAPS_RELAX_STEPS} steps, until the blocks move slower than 0.1 "
         "mm/s (loose blocks rattle for long below that). Runs stop once P has fallen to 85 % "
         "of its peak. Reference: the calibrated model (k_imp, no gaps) of the same "
-        "discretisation. Discretisation: "
-        + ", ".join(f"{k}={v}" for k, v in base["disc"].items())
-        + (" (quick: coarse, not converged)." if quick else ".")
+        "discretisation. " + _discretisation_note(base["disc"], quick)
     )
     return rows, notes
 
