@@ -181,6 +181,12 @@ class StaticSettings:
         Relative residual ``|R| / (|F_D| + |lambda F_L|)`` for convergence.
     min_step_ratio : float
         Smallest control increment, relative to the first, before giving up a step.
+    switch_after : int
+        Consecutive failed steps after which the fixed control gives way to the path
+        direction (:mod:`dem.static.path`): the path turns away from the control, or a local
+        mechanism forms that the control hardly measures (seed 001 S6 with return walls of
+        blocks, resultant law: with the switch only at ``min_step_ratio`` it stalled after
+        715 s; with 3, a plateau).
     plateau_slope : float
         A step is on the collapse plateau when ``d lambda / d c`` is below this fraction of
         the initial secant slope (measured back over at least the control length at which
@@ -230,6 +236,7 @@ class StaticSettings:
     target_iterations: int = 10
     tolerance: float = 1e-6
     min_step_ratio: float = 1e-4
+    switch_after: int = 3
     plateau_slope: float = 2e-3
     plateau_steps: int = 4
     plateau_rise: float = 1e-3
@@ -251,7 +258,13 @@ class StaticSettings:
                 raise ValueError(f"{name} must be None or finite and >= 0, got {v!r}")
         if not (math.isfinite(self.tensile_strength) and self.tensile_strength >= 0):
             raise ValueError(f"tensile_strength must be >= 0 [Pa], got {self.tensile_strength}")
-        for name in ("max_steps", "max_iterations", "target_iterations", "plateau_steps"):
+        for name in (
+            "max_steps",
+            "max_iterations",
+            "target_iterations",
+            "plateau_steps",
+            "switch_after",
+        ):
             _integer(name, getattr(self, name), 1)
         _integer("dead_steps", self.dead_steps, 1)
         for name in (
