@@ -84,11 +84,11 @@ def table2(names) -> None:
 def kernels(names) -> None:
     """The spread of lambda across OpenBLAS kernels: the ``masonry-restrepo-kernels`` case's
     subprocess per kernel (:mod:`validation.cases.masonry`), on the walls ``names``."""
-    from validation.cases.masonry import KERNELS, _run_under_kernel
+    from validation.cases.masonry import KERNELS, _run_under_kernels
 
     print(f"== lambda under the OpenBLAS kernels {', '.join(KERNELS)} (target 1 %) ==")
     for run in table2_runs(names):
-        out = [_run_under_kernel(kernel, *run, quick=False) for kernel in KERNELS]
+        out = _run_under_kernels(*run, quick=False)
         lams = [r["lam"] for r in out]
         terms = "/".join(r["termination"] for r in out)
         if all(lam is not None for lam in lams):

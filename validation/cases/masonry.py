@@ -229,7 +229,7 @@ def run_restrepo_kernels(quick: bool = True):
             variants = VARIANTS
         for model, variant in variants:
             start = time.perf_counter()
-            runs = [_run_under_kernel(kernel, name, model, variant, quick) for kernel in KERNELS]
+            runs = _run_under_kernels(name, model, variant, quick)
             lams = [r["lam"] for r in runs]
             spread = None
             if all(lam is not None for lam in lams):
@@ -250,10 +250,11 @@ def run_restrepo_kernels(quick: bool = True):
                 )
             )
     notes = (
-        "Each Table 2 analysis of `masonry-restrepo` (same settings) rerun in a subprocess "
-        f"under OPENBLAS_CORETYPE = {', '.join(KERNELS)} (this CPU supports AVX2, AVX-512 "
-        "and AVX); `ours` = (max - min) / min of lambda over the kernels, None if a run did "
-        "not collapse. The kernels round differently (FMA, vector width); the Newton "
+        "Each Table 2 analysis of `masonry-restrepo` (same settings) rerun in three "
+        f"concurrent subprocesses under OPENBLAS_CORETYPE = {', '.join(KERNELS)} (this CPU "
+        "supports AVX2, AVX-512 and AVX; OPENBLAS_NUM_THREADS = 1); `ours` = (max - min) / "
+        "min of lambda over the kernels, None if a run did not collapse. The kernels round "
+        "differently (FMA, vector width); the Newton "
         "iterations at the joints' kinks amplify that round-off, and where frictional "
         "equilibrium is not unique a step that converges in 29 iterations on one kernel and "
         "fails at 30 on another changes the step sequence and with it the path."
@@ -261,16 +262,29 @@ def run_restrepo_kernels(quick: bool = True):
     return rows, notes
 
 
-def _run_under_kernel(kernel: str, name: str, model: str, variant: str, quick: bool) -> dict:
-    env = dict(os.environ, OPENBLAS_CORETYPE=kernel)
+def _run_under_kernels(name: str, model: str, variant: str, quick: bool) -> list[dict]:
+    """One Table 2 analysis under each of the ``KERNELS``, in concurrent subprocesses."""
     args = [sys.executable, "-m", "validation.cases.masonry", name, model, variant]
-    proc = subprocess.run(
-        args + (["--quick"] if quick else []), env=env, capture_output=True, text=True
-    )
-    if proc.returncode != 0:
-        tail = proc.stderr.strip().splitlines()[-1:] or ["?"]
-        return {"lam": None, "termination": f"error: {tail[0][:80]}"}
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+    args += ["--quick"] if quick else []
+    procs = [
+        subprocess.Popen(
+            args,
+            env=dict(os.environ, OPENBLAS_CORETYPE=kernel, OPENBLAS_NUM_THREADS="1"),
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for kernel in KERNELS
+    ]
+    runs = []
+    for proc in procs:
+        out, err = proc.communicate()
+        if proc.returncode != 0:
+            tail = err.strip().splitlines()[-1:] or ["?"]
+            runs.append({"lam": None, "termination": f"error: {tail[0][:80]}"})
+        else:
+            runs.append(json.loads(out.strip().splitlines()[-1]))
+    return runs
 
 
 # ----------------------------------------------------------------------------------------------
