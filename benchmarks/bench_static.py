@@ -5,7 +5,8 @@ Prints
 
 1. ``--table2``: every Table 2 wall (Restrepo-Velez specimens) to collapse with both interface
    laws and both return-wall models: wall time against the target of 10 s, lambda, termination
-   (a run that did not collapse prints its termination, never a lambda);
+   (a run that did not collapse prints its termination, never a lambda), steps and Newton
+   iterations (the load-independent measure of the work);
 2. ``--kernels``: the same runs (with the validation case's settings) repeated in
    subprocesses under the OpenBLAS kernels ``OPENBLAS_CORETYPE = Haswell, SkylakeX,
    Sandybridge`` (the CPU must support each: AVX2, AVX-512, AVX), and the spread of lambda
@@ -50,6 +51,7 @@ def run_wall(name: str, model: str, variant: str) -> dict:
         "lam": result.lambda_max if result.collapsed else None,
         "termination": result.termination,
         "steps": result.n_steps,
+        "iterations": result.n_iterations,
         "wall_s": time.perf_counter() - start,
     }
 
@@ -68,7 +70,8 @@ def _line(r: dict) -> str:
     ok = "OK" if r["wall_s"] <= TARGET_S else "over target"
     return (
         f"{r['name']:9s} {r['model']:9s} {r['variant']:12s} lambda {lam:>11s} "
-        f"{r['termination']:10s} steps {r['steps']:4d} {r['wall_s']:7.2f} s  {ok}"
+        f"{r['termination']:10s} steps {r['steps']:4d} iterations {r['iterations']:5d} "
+        f"{r['wall_s']:7.2f} s  {ok}"
     )
 
 
