@@ -13,20 +13,21 @@ opening). The actions are its resultants about the centroid,
 
 .. math:: N = \int_P \sigma\,dA,\ M_1 = \int_P y_2 \sigma\,dA,\ M_2 = -\int_P y_1 \sigma\,dA,
 
-exact integrals over the parts of ``P`` cut by the lines ``sigma = sigma_t`` and ``sigma =
--f_c`` (polygon clipping and shoelace moments). Their limits are seed 001 Eq. (9): ``|M_j| <=
-(f_t - N) l_j`` as the compressed part shrinks to the edge, and, with ``f_c``, the uniform
-stress block; both are approached as the rotation grows (the compressed strip of a rocking joint
-narrows as ``theta^(-1/2)``, so a path ends on its plateau about 1 % below the rigid-block
-limit: 0.988 b / h for a single block). On the way the compressed part shrinks progressively
-from the middle third on, and a joint rocking about its edge opens at its centroid (a rigid
-block turning about an edge lifts). Seed 001's own rule (Eq. 13: elastic until the limit, then
-``k_r = 0``) lets the joint turn about its centroid without opening, half of it passing through
-its neighbour: where that lift is confined (a wall held along an edge, interlocked units) the
-assembly then finds mechanisms that rigid blocks do not have (a 3 x 13 dry panel with a
-restrained column collapsed at a fifth of the fibre law's and the explicit DEM's load), and a
-panel of interlocked units with inclined faces found no equilibrium under its own weight (a face
-rotating about an edge had its centroid open and counted as detached).
+exact integrals over the parts of ``P`` cut by the lines ``sigma = sigma_t`` and
+``sigma = -f_c`` (polygon clipping and shoelace moments). Their limits are seed 001 Eq. (9),
+``|M_j| <= (f_t - N) l_j``, as the compressed part shrinks to the edge, and, with ``f_c``,
+the uniform stress block. Both are approached as the rotation grows: the compressed strip of a
+rocking joint narrows as ``theta^(-1/2)``, so a path ends on its plateau about 1 % below the
+rigid-block limit (0.988 b / h for a single block). On the way the compressed part shrinks
+progressively from the middle third on, and a joint rocking about its edge opens at its
+centroid (a rigid block turning about an edge lifts). Seed 001's own rule (Eq. 13: elastic
+until the limit, then ``k_r = 0``) lets the joint turn about its centroid without opening, half
+of it passing through its neighbour: where that lift is confined (a wall held along an edge,
+interlocked units) the assembly then finds mechanisms that rigid blocks do not have (a 3 x 13
+dry panel with a restrained column collapsed at a fifth of the fibre law's and the explicit
+DEM's load), and a panel of interlocked units with inclined faces found no equilibrium under
+its own weight (a face rotating about an edge had its centroid open and counted as
+detached).
 
 The response has no memory (like the fibre law's springs, a dry joint reopens and recloses
 elastically; a crushed zone is capped, not plastically shortened). The tangent is
