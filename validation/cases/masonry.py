@@ -200,10 +200,27 @@ def _kernel_note() -> str:
         spread = "-" if r["ours"] is None else f"{100 * r['ours']:.2f} %"
         lines.append(f"| {r['quantity']} | {values} | {spread} | {r['extra']['terminations']} |")
     quick = " (quick subset)" if data.get("quick") else ""
+    spreads = [(r["quantity"], r["ours"]) for r in data["rows"]]
     return (
         f"spread of lambda across the OpenBLAS kernels {', '.join(KERNELS)} "
-        f"(`masonry-restrepo-kernels`{quick}, commit {data.get('git_commit', '?')[:12]}):\n\n"
+        f"(`masonry-restrepo-kernels`{quick}, commit {data.get('git_commit', '?')[:12]}): "
+        + _spread_summary(spreads)
+        + "\n\n"
         + "\n".join(lines)
+    )
+
+
+def _spread_summary(spreads: list[tuple[str, float | None]]) -> str:
+    """One sentence on the spreads ``(run, spread or None)`` of a kernel run."""
+    done = [(s, q) for q, s in spreads if s is not None]
+    if not done:
+        return "no run collapsed under every kernel."
+    worst, run = max(done)
+    within = sum(s <= 0.01 for s, _ in done)
+    return (
+        f"{within} of the {len(done)} runs that collapsed under every kernel are within 1 % "
+        f"(largest {100 * worst:.2g} %, {run}); {len(spreads) - len(done)} of {len(spreads)} "
+        "did not collapse under some kernel (no spread)."
     )
 
 
@@ -257,7 +274,8 @@ def run_restrepo_kernels(quick: bool = True):
         "differently (FMA, vector width); the Newton "
         "iterations at the joints' kinks amplify that round-off, and where frictional "
         "equilibrium is not unique a step that converges in 29 iterations on one kernel and "
-        "fails at 30 on another changes the step sequence and with it the path."
+        "fails at 30 on another changes the step sequence and with it the path. "
+        + _spread_summary([(r.quantity, r.ours) for r in rows])
     )
     return rows, notes
 
