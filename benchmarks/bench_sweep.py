@@ -8,7 +8,8 @@ Run ``python benchmarks/bench_sweep.py [--tasks 16] [--workers 2]``. Prints
    on two single-threaded processes;
 2. the same ``--tasks`` small tasks (3 x 3 TIS panel to 85 % past the peak, per-block random
    mu) serially in this process and on ``--workers`` local worker processes: wall times and
-   the speed-up (target >= 1.8 on 2 workers);
+   the speed-up (target >= 1.8 on 2 workers), split into the share of the workers' time
+   spent inside tasks and the slowdown of a task when the workers run side by side;
 3. scheduler overhead per task: 400 closed-form tasks through ``run_sweep`` (store writes with
    fsync included) and through bare ``client.submit`` (target < 50 ms per task);
 4. resident memory of each worker after the tasks;
@@ -135,7 +136,7 @@ def speedup(n_tasks: int, n_workers: int, tmp: Path) -> None:
     # the explicit solver's prange kernels use every core in a serial run: time both
     serial, s_sum = _timed_sweep(SerialExecutor(), n_tasks, 2, tmp)
     with one_numba_thread():
-        serial_1, _ = _timed_sweep(SerialExecutor(), n_tasks, 2, tmp)
+        serial_1, s1_sum = _timed_sweep(SerialExecutor(), n_tasks, 2, tmp)
     cluster, client = _cluster(n_workers)
     try:
         _warm(client)
@@ -151,11 +152,30 @@ def speedup(n_tasks: int, n_workers: int, tmp: Path) -> None:
             f"  speed-up {serial / parallel:.2f} over serial, {serial_1 / parallel:.2f} over "
             "serial on one numba thread (target >= 1.8)"
         )
+        _explain(serial_1, parallel, s1_sum, p_sum, n_workers)
         overhead(client, tmp)
         memory(client)
     finally:
         client.close()
         cluster.close()
+
+
+def _explain(serial_1: float, parallel: float, s1_sum, p_sum, n_workers: int) -> None:
+    """Split the gap to ``n_workers`` x into idle workers and slower tasks.
+
+    speed-up = n_workers * busy / slowdown * serial_1 / sum(serial task times), where busy is
+    the share of the workers' time spent inside tasks (scheduling, transfer and the tail of
+    the last wave are the rest) and slowdown is how much longer a task takes when the
+    workers run side by side (shared caches, memory bandwidth, other processes).
+    """
+    serial_tasks = sum(r["wall_s"] for r in s1_sum.records())
+    parallel_tasks = sum(r["wall_s"] for r in p_sum.records())
+    busy = parallel_tasks / (n_workers * parallel)
+    print(
+        f"  workers busy inside tasks {100 * busy:.1f} % of the dask wall time; a task takes "
+        f"{parallel_tasks / serial_tasks:.3f} x its serial time when {n_workers} run at once; "
+        f"the serial loop spends {100 * serial_tasks / serial_1:.1f} % inside tasks"
+    )
 
 
 def overhead(client, tmp: Path, n: int = 400) -> None:

@@ -15,7 +15,10 @@ outward). Corner bond:
   behind it at ``y = -s/2``;
 - odd courses: the return wall's end block covers the corner (``s/2 - b <= y <= s/2``) in place
   of the main wall's half block, so the head joints of the return wall are staggered by
-  ``b - s``.
+  ``b - s``; a closer of length ``s`` ends the course flush with the even courses. (Without
+  it, the last block of an even course would overhang by ``s``; with the Restrepo-Velez
+  blocks, ``s`` just under ``b/2``, its centre of mass would sit 0.21 mm inside the edge of the
+  block below.)
 
 The return-wall blocks are ``b/2`` thick (instead of ``s``) so that the corner block of an odd
 course fills exactly the half-block slot of the main wall; for the Restrepo-Velez blocks
@@ -73,7 +76,7 @@ def wall_with_returns(
         Ends of the main wall that carry a return wall ("left" gives an L, both a U).
     return_blocks : int
         Length of each return wall behind the main wall, in blocks (an even course holds this
-        many full blocks behind the corner).
+        many full blocks behind the corner; every course ends at ``y = -s/2 - n b``).
     beam_loads_kn : sequence of (x, force)
         Dead downward forces [kN] at ``x`` [mm] on the top course of the main wall.
     openings_mm : sequence of (x0, z0, x1, z1)
@@ -139,8 +142,8 @@ def wall_with_returns(
             if k % 2 == 0:
                 edges = [-s / 2 - i * b for i in range(nr + 1)]
             else:
-                edges = [s / 2 - i * b for i in range(nr + 1)]
-                edges[-1] = max(edges[-1], y_min)
+                # a closer of length s ends the course flush with the even ones
+                edges = [s / 2 - i * b for i in range(nr + 1)] + [y_min]
             for y_hi, y_lo in zip(edges[:-1], edges[1:], strict=True):
                 corners.append(box_corners(xl, xr, y_lo, y_hi, z0, z1))
                 course.append(k)

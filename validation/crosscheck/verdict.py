@@ -242,7 +242,10 @@ def _explicit_vs_static(ctx: Context, stable, moving, agree_rtol: float) -> list
             continue
         lam = dem.values["lambda_max"]
         ok = stable * (1 - agree_rtol) <= lam <= moving * (1 + agree_rtol)
-        detail = f"static DEM {lam:.4g} against the bracket ({stable:.4g}, {moving:.4g}]"
+        detail = (
+            f"static DEM {lam:.4g} against the bracket ({stable:.4g}, {moving:.4g}] widened by "
+            f"{agree_rtol:.0%} on each side"
+        )
         name = f"explicit bracket holds the static DEM {law}"
         out.append(Check(name, PASS if ok else FAIL, lam, moving, detail))
     return out
