@@ -397,24 +397,23 @@ def pair_wrenches(pairs, sums, force, torque):
 
 
 @njit(cache=True)
-def entry_chunks(m):
-    """Number of chunks the entries are split into (a function of ``m`` only, so that the
-    serial and the parallel loops add in the same order and agree bit for bit)."""
-    return max(1, min(MAX_CHUNKS, (m + ENTRY_CHUNK - 1) // ENTRY_CHUNK))
+def _chunks(motion, bodies, shapes, scratch, pairs, m):
+    """Write the pairs' frames; the chunks of the ``m`` entries (count and size, a function of
+    ``m`` only, so that the serial and the parallel loops add in the same order and agree bit
+    for bit) and their zeroed sums (n_chunks, p, 6)."""
+    pair_frames(motion, scratch.rot, bodies, shapes, pairs)
+    n_chunks = max(1, min(MAX_CHUNKS, (m + ENTRY_CHUNK - 1) // ENTRY_CHUNK))
+    return n_chunks, (m + n_chunks - 1) // n_chunks, np.zeros((n_chunks, pairs.a.shape[0], 6))
 
 
 @njit(cache=True)
 def node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record):
     """Every entry, adding to ``scratch.force`` and ``scratch.torque`` (arguments as
     :func:`contact_entries`; ``scratch.rot`` holds the current rotations)."""
-    pair_frames(motion, scratch.rot, bodies, shapes, pairs)
-    m = contacts.node.shape[0]
-    n_chunks = entry_chunks(m)
-    size = (m + n_chunks - 1) // n_chunks
-    sums = np.zeros((n_chunks, pairs.a.shape[0], 6))
+    n_chunks, size, sums = _chunks(motion, bodies, shapes, scratch, pairs, contacts.node.size)
     for c in range(n_chunks):
-        contact_entries(c * size, min(m, (c + 1) * size), nodes, contacts, motion, bodies,
-                        shapes, law, dt, scratch, pairs, record, sums[c])  # fmt: skip
+        _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
+               sums)  # fmt: skip
     _add_chunks(sums, pairs, scratch)
 
 
@@ -423,15 +422,20 @@ def node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scr
                            record):  # fmt: skip
     """:func:`node_contacts` with the chunks in a ``prange`` loop: each chunk sums into its own
     buffer, and the buffers are added in chunk order (same result, bit for bit)."""
-    pair_frames(motion, scratch.rot, bodies, shapes, pairs)
-    m = contacts.node.shape[0]
-    n_chunks = entry_chunks(m)
-    size = (m + n_chunks - 1) // n_chunks
-    sums = np.zeros((n_chunks, pairs.a.shape[0], 6))
+    n_chunks, size, sums = _chunks(motion, bodies, shapes, scratch, pairs, contacts.node.size)
     for c in prange(n_chunks):
-        contact_entries(c * size, min(m, (c + 1) * size), nodes, contacts, motion, bodies,
-                        shapes, law, dt, scratch, pairs, record, sums[c])  # fmt: skip
+        _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
+               sums)  # fmt: skip
     _add_chunks(sums, pairs, scratch)
+
+
+@njit(cache=True)
+def _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
+           sums):  # fmt: skip
+    """Entries of chunk ``c`` (of ``size`` entries) into ``sums[c]``."""
+    m = contacts.node.size
+    contact_entries(c * size, min(m, (c + 1) * size), nodes, contacts, motion, bodies, shapes,
+                    law, dt, scratch, pairs, record, sums[c])  # fmt: skip
 
 
 @njit(cache=True)
