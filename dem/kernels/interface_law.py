@@ -2,38 +2,39 @@ r"""Resultant interface law of seed 001 (Eqs. (8)-(14), (A5)): return mapping an
 
 One interface carries the actions ``f = (N, V1, V2, M1, M2, M3)`` [N, N m] (``N > 0`` in
 tension) conjugate to the relative motion ``q = (dn, dt1, dt2, phi1, phi2, phi3)`` [m, rad]
-of block b with respect to block a (see :mod:`dem.geometry.compatibility`). Elastically
-``f = diag(k) (q - q_p)`` with ``k = (k_n A, k_t A, k_t A, k_r J_22, k_r J_11, k_t J_p)``.
+of block b with respect to block a (see :mod:`dem.geometry.compatibility`).
 
-The law, elastic-perfectly plastic with the seed's interactions:
+- normal force and bending (Eqs. 8-9): the resultants of the joint's normal stress
+  ``k_n dn + k_r (phi1 y2 - phi2 y1)`` capped by the tensile strength (0: the joint opens)
+  and the compressive strength ``f_c``, integrated exactly over the joint polygon
+  (:mod:`dem.kernels.contact_stress`). The limits are the seed's,
+  ``|M_i| <= (f_t - N) l_i`` with ``l_i`` the distance to the hinge edge, reached as the
+  compressed part shrinks to that edge; on the way the joint opens progressively and, rocking
+  about an edge, lifts at its centroid, as rigid blocks do (where that lift is confined the
+  assembly arches). Seed 001's Eq. (13) (elastic up to the limit, then ``k_r = 0``) let the
+  joint turn about its centroid with no lift: a restrained 3 x 13 dry panel collapsed at a
+  fifth of the fibre law's and the explicit DEM's load. A joint open over its whole area is
+  detached (Eq. 13): no action; a mortared joint (``f_t > 0``) is then broken for good and
+  behaves as a dry joint (``f_t = c = 0``). No memory: a dry joint recloses elastically.
+- shear and torsion (Eqs. 10, 12, 14, A5): elastic ``V = k_t A w``, ``M3' = k_t J_p theta``
+  with ``w`` the elastic slip at the centre of compression ``y_c`` (where ``N`` acts) and
+  ``theta`` the elastic twist, within
+  ``(|M3'| / M_{3u})^\alpha + (V_1^2 + V_2^2) / V_u^2 <= 1``, ``V_u = c + \mu (-N)``
+  (``c = \mu f_t`` in the seed), ``M_{3u} = c_T V_u``, ``c_T`` the mean distance to ``y_c`` of
+  the compressed rectangle reduced by the eccentricities (Orduna & Lourenco's uniform-stress
+  hypothesis, seed Fig. 10); ``alpha`` from Table A1 at the interface's aspect ratio (column
+  ``f1 = f2``). The torsion is taken about ``y_c``, where the reduced rectangle is centred:
+  about the centroid, a joint hinged on an edge and sliding had its friction off the contact
+  (``M3 = 0`` instead of ``y_c x V``). A trial outside returns to the nearest point
+  (:mod:`dem.kernels.shear_torsion_return`); the slip and twist are kept in ``q_p`` (at the
+  centroid), and ``M3 = M3' + y_c x V``.
 
-- detachment (Eq. 8-9, 13): if ``N = k_0 dn > f_t`` all actions vanish; a mortared joint
-  (``f_t > 0``) is then broken for good and behaves as a dry joint (``f_t = c = 0``);
-- rocking (Eq. 9): ``-(f_t - N) l^-_i <= M_i <= (f_t - N) l^+_i`` for ``i = 1, 2``, where
-  ``l^\pm`` are the distances from the interface centroid to the polygon's edges on the side
-  of the hinge (``l_c1 = s/2``, ``l_c2 = b/4`` for a bed joint of seed 001);
-- shear and torsion (Eq. 10, 12, 14, A5):
-  ``(|M3| / M_{3u})^\alpha + (V_1^2 + V_2^2) / V_u^2 <= 1`` with ``V_u = c + \mu (-N)``
-  (``c = \mu f_t`` in the seed) and ``M_{3u} = c_T V_u``, ``c_T`` the mean distance to the
-  centroid of the compressed rectangle reduced by the eccentricities ``M/(f_t - N)``
-  (Orduna & Lourenco's uniform-stress hypothesis, seed Fig. 10). The return puts the shear on
-  the Coulomb circle first and then caps the torsion at what the shear leaves,
-  ``M_{3u} (1 - V^2/V_u^2)^{1/\alpha}``: unlike a radial return it stays continuous when
-  ``M_{3u} -> 0`` (a hinge on an edge keeps its friction); ``alpha`` is taken from Table A1
-  at the interface's aspect ratio (seed Table A1, column ``f1 = f2``, the intermediate value the
-  seed recommends for a single exponent).
+The tangent ``D = df/dq`` is consistent (non-symmetric: the friction limits and the centre of
+compression move with ``N, M1, M2``); yielded components keep ``floor`` times their elastic
+stiffness, a fully open joint ``floor`` times all of them, so that a stiffness matrix stays
+invertible away from true mechanisms.
 
-An optional compressive strength ``f_c`` caps the normal force at ``-f_c A`` (crushing, with a
-plastic closure kept in ``q_p[0]``) and takes the rectangular stress block of depth
-``(f_t - N) / (f_c w)`` out of each rocking limit (``w`` the joint's width along the hinge):
-``M <= (f_t - N) (l - (f_t - N) / (2 f_c w))``, the uniaxial form of the limit analysis' block.
-Without it (``f_c = inf``) the normal response has no plastic part (a gap); plastic rotations
-and slips are kept in ``q_p``. The tangent ``D = df/dq`` keeps the dependence of the rocking
-and friction limits on the normal force (non-symmetric); yielded components keep ``floor``
-times their elastic stiffness so that a stiffness matrix stays invertible away from true
-mechanisms.
-
-A component counts as yielding when its trial action reaches the limit to within a relative
+A shear-torsion state counts as yielding when its trial reaches the limit to within a relative
 ``KINK_BAND``, not only when it exceeds it. After a plastic return the committed state lies
 exactly on the limit, so at the start of the next load step the trial equals the limit up to
 rounding; with a strict test about two thirds of the yielded joints of a wall were then taken
@@ -48,24 +49,31 @@ import math
 import numpy as np
 from numba import njit
 
+from dem.kernels.contact_stress import MAX_VERTICES, stress_resultants
+from dem.kernels.shear_torsion_return import nearest_on_boundary
+
 STATE_ELASTIC = 0
 STATE_SHEAR = 1  # bit: sliding / torsion on the yield surface
-STATE_FLEXURE = 2  # bit: rocking limit reached about t1 or t2
+STATE_FLEXURE = 2  # bit: at least half of the joint open (rocking)
 STATE_DETACHED = 4  # the whole interface is open (exclusive)
 STATE_CRUSHED = 8  # bit: the compressive strength is reached
 KINK_BAND = 1e-9  # relative band below a limit that already counts as yielding (module notes)
+OPEN_BAND = 1e-12  # relative open area above which a joint counts as detached
 
 # columns of the per-interface parameter rows of the resultant law
 P_K = 0  # 0:6  elastic stiffnesses (k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)
-P_LEVER = 6  # 6:10 rocking lever arms (l1+, l1-, l2+, l2-) [m]
-P_FT = 10  # tensile strength force f_t A [N]
-P_COHESION = 11  # cohesion force c A [N]
-P_MU = 12  # friction coefficient [-]
-P_DIMS = 13  # 13:15 extents (l1, l2) [m]
-P_ALPHA = 15  # exponent of Eq. (A5) [-]
-P_FC = 16  # compressive strength f_c [Pa]; inf for none
-P_AREA = 17  # area A [m^2]
-N_PARAMS = 18
+P_FT = 6  # tensile strength force f_t A [N]
+P_COHESION = 7  # cohesion force c A [N]
+P_MU = 8  # friction coefficient [-]
+P_DIMS = 9  # 9:11 extents (l1, l2) [m]
+P_ALPHA = 11  # exponent of Eq. (A5) [-]
+P_FC = 12  # compressive strength f_c [Pa]; inf for none
+P_AREA = 13  # area A [m^2]
+P_STIFF = 14  # 14:16 (k_n, k_r) per unit area [Pa/m]
+P_N_CORNERS = 16  # corners of the joint polygon
+P_POLY = 17  # 17:17 + 2 MAX_VERTICES corners (y1, y2) about the centroid, CCW [m]
+N_PARAMS = P_POLY + 2 * MAX_VERTICES
+NORMAL_ROWS = (0, 3, 4)  # the components (dn, phi1, phi2) the normal force depends on
 
 
 @njit(cache=True)
@@ -89,23 +97,6 @@ def torsion_coefficient(l1, l2):
 
 
 @njit(cache=True)
-def rocking_limit(cap, lever, f_c, width):
-    """Rocking capacity ``cap (l - cap / (2 f_c w))`` [N m] and its derivative in ``cap`` [m].
-
-    ``cap = f_t - N`` [N], ``lever`` the distance from the centroid to the hinge edge [m],
-    ``f_c`` the compressive strength [Pa] (inf: a hinge on the edge), ``width`` [m] the joint
-    along the hinge. The stress block is never deeper than twice the lever (the limit stays
-    >= 0 and stops falling there).
-    """
-    if math.isinf(f_c) or width <= 0.0:
-        return cap * lever, lever
-    depth = cap / (f_c * width)
-    if depth >= 2.0 * lever:
-        return 0.0, 0.0
-    return cap * (lever - 0.5 * depth), lever - depth
-
-
-@njit(cache=True)
 def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
     """Return mapping of one interface (seed 001, Eqs. (8)-(14), (A5)).
 
@@ -114,16 +105,17 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
     q : (6,) float64
         Total relative motion ``(dn, dt1, dt2, phi1, phi2, phi3)`` [m, rad].
     qp : (6,) float64
-        Plastic part at the last converged state (``qp[0]`` the crushing closure) [m, rad].
+        Plastic part at the last converged state: slips ``qp[1:3]`` and twist ``qp[5]`` at the
+        centroid (``qp[0], qp[3], qp[4]`` unused, 0) [m, rad].
     is_broken : bool
         Tensile strength and cohesion already lost.
     params : (N_PARAMS,) float64
         The interface's parameters, columns ``P_*``: elastic stiffnesses
-        ``(k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)`` [N/m, N m/rad]; rocking lever arms
-        ``(l1+, l1-, l2+, l2-)`` for ``M1 > 0``, ``M1 < 0``, ``M2 > 0``, ``M2 < 0`` [m];
-        tensile strength and cohesion forces ``sigma_t A``, ``c A`` [N]; friction coefficient
-        [-]; extents ``(l1, l2)`` along ``t1, t2`` [m]; exponent of Eq. (A5) [-];
-        compressive strength [Pa] (inf for none); area [m^2].
+        ``(k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)`` [N/m, N m/rad]; tensile strength
+        and cohesion forces ``sigma_t A``, ``c A`` [N]; friction coefficient [-]; extents
+        ``(l1, l2)`` along ``t1, t2`` [m]; exponent of Eq. (A5) [-]; compressive strength [Pa]
+        (inf for none); area [m^2]; ``(k_n, k_r)`` per unit area [Pa/m]; the number of corners
+        and the corners ``(y1, y2)`` of the joint polygon about its centroid, CCW [m].
     floor : float
         Fraction of the elastic stiffness kept by yielded components of the tangent [-].
     out_f : (6,) float64
@@ -147,176 +139,189 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
         ft = 0.0
         c = 0.0
     out_D[:, :] = 0.0
-    if k[0] * (q[0] - qp[0]) > ft:
+    state = normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D)
+    if state == STATE_DETACHED:
         # detachment (Eq. 13): no action; the slips follow the motion so that re-contact
         # starts unloaded
-        for i in range(6):
+        for i in (1, 2, 5):
             out_f[i] = 0.0
             out_qp[i] = q[i]
             out_D[i, i] = floor * k[i]
-        out_qp[0] = qp[0]
         return is_broken or params[P_FT] > 0.0, STATE_DETACHED
-    state = normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D)
     state |= shear_and_torsion(q, qp, params, c, ft - out_f[0], floor, out_f, out_qp, out_D)
     return is_broken, state
 
 
 @njit(cache=True)
 def normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D):
-    """Normal force (with crushing) and rocking moments of a closed joint, Eq. (9).
+    """Normal force and bending moments, Eq. (9), from the capped stress field of the joint
+    (:mod:`dem.kernels.contact_stress`).
 
     Arguments as :func:`resultant_law_one`, ``ft`` the tensile strength force in effect [N].
-    Writes rows 0, 3 and 4 of ``out_f``, ``out_qp``, ``out_D``; returns the state bits.
+    Writes rows 0, 3 and 4 of ``out_f``, ``out_qp`` (0: no memory), ``out_D``; returns the
+    state bits: ``STATE_DETACHED`` alone when the whole joint is at its tensile cap,
+    ``STATE_FLEXURE`` when at least half of it is, ``STATE_CRUSHED`` when a part is at
+    ``f_c``.
     """
     k = params[P_K : P_K + 6]
-    lever = params[P_LEVER : P_LEVER + 4]
-    dims = params[P_DIMS : P_DIMS + 2]
-    f_c = params[P_FC]
+    area = params[P_AREA]
+    n = int(params[P_N_CORNERS])
+    poly = params[P_POLY : P_POLY + 2 * n].reshape((n, 2))
+    f3 = np.empty(3)
+    D3 = np.empty((3, 3))
+    strength = np.array((ft / area, params[P_FC]))
+    area_t, area_c = stress_resultants(
+        np.array((q[0], q[3], q[4])), poly, n, params[P_STIFF : P_STIFF + 2], strength, f3, D3
+    )
+    for i in range(3):
+        out_qp[NORMAL_ROWS[i]] = 0.0
+        out_f[NORMAL_ROWS[i]] = f3[i]
+        for j in range(3):
+            out_D[NORMAL_ROWS[i], NORMAL_ROWS[j]] = D3[i, j]
+    if area_t >= area * (1.0 - OPEN_BAND):
+        for i in NORMAL_ROWS:
+            out_f[i] = 0.0
+            out_D[i, i] = floor * k[i]
+        return STATE_DETACHED
     state = STATE_ELASTIC
-    n_force = k[0] * (q[0] - qp[0])
-    dn_dq0 = k[0]  # d N / d dn
-    out_qp[0] = qp[0]
-    n_crush = -f_c * params[P_AREA]
-    if n_force < n_crush * (1.0 - KINK_BAND):
-        # crushing: the normal force stays at the strength, the closure is plastic
-        n_force = n_crush
-        out_qp[0] = q[0] - n_crush / k[0]
-        dn_dq0 = floor * k[0]
+    if area_t >= 0.5 * area:
+        state |= STATE_FLEXURE
+    if area_c > 0.0:
         state |= STATE_CRUSHED
-    out_f[0] = n_force
-    out_D[0, 0] = dn_dq0
-    cap = ft - n_force  # >= 0
-    # rocking about t1 (M1, lever along y2, hinge along y1) and t2 (M2)
-    for j in range(2):
-        i = 3 + j
-        m_trial = k[i] * (q[i] - qp[i])
-        width = dims[0] if j == 0 else dims[1]
-        hi, dhi = rocking_limit(cap, lever[2 * j], f_c, width)
-        lo, dlo = rocking_limit(cap, lever[2 * j + 1], f_c, width)
-        lo = -lo
-        if m_trial > hi - KINK_BAND * abs(hi):
-            out_f[i] = hi
-            out_qp[i] = q[i] - hi / k[i]
-            out_D[i, i] = floor * k[i]
-            out_D[i, 0] = -dn_dq0 * dhi
-            state |= STATE_FLEXURE
-        elif m_trial < lo + KINK_BAND * abs(lo):
-            out_f[i] = lo
-            out_qp[i] = q[i] - lo / k[i]
-            out_D[i, i] = floor * k[i]
-            out_D[i, 0] = dn_dq0 * dlo
-            state |= STATE_FLEXURE
-        else:
-            out_f[i] = m_trial
-            out_qp[i] = qp[i]
-            out_D[i, i] = k[i]
+    # the exact tangent is regular while a part of the joint is in contact; the floor only
+    # keeps a sliver of contact (or a crushed joint) from making it singular
+    for i in NORMAL_ROWS:
+        out_D[i, i] = max(out_D[i, i], floor * k[i])
     return state
 
 
 @njit(cache=True)
 def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
-    """Shear and torsion of a closed joint, Eqs. (10), (12), (14), (A5).
+    """Shear and torsion of a closed joint, Eqs. (10), (12), (14), (A5), about the centre of
+    compression (module notes).
 
     Arguments as :func:`resultant_law_one`; ``c`` the cohesion force in effect and
     ``cap = f_t - N`` [N]. Needs rows 0, 3, 4 of ``out_f`` and ``out_D``
     (:func:`normal_and_rocking`); writes rows 1, 2, 5; returns the state bits.
     """
     k = params[P_K : P_K + 6]
-    v1 = k[1] * (q[1] - qp[1])
-    v2 = k[2] * (q[2] - qp[2])
-    m3 = k[5] * (q[5] - qp[5])
+    centre, d_centre = np.zeros(2), np.zeros((2, 6))
+    compression_centre(out_f, out_D, cap, centre, d_centre)
+    # elastic slip at the centre and twist: V = k_t A w, M3' = k_t J_p theta
+    theta = q[5] - qp[5]
+    dv = np.zeros((2, 6))  # d V_trial / d q
+    v1 = k[1] * (q[1] - qp[1] - theta * centre[1])
+    v2 = k[2] * (q[2] - qp[2] + theta * centre[0])
+    dv[0, 1], dv[0, 5] = k[1], -k[1] * centre[1]
+    dv[1, 2], dv[1, 5] = k[2], k[2] * centre[0]
+    for j in range(6):
+        dv[0, j] -= k[1] * theta * d_centre[1, j]
+        dv[1, j] += k[2] * theta * d_centre[0, j]
+    m_t = k[5] * theta
     v_u = c - params[P_MU] * out_f[0]
     if v_u <= 0.0:
         # no friction capacity; an unloaded joint (a dry joint at N = 0) keeps its elastic
         # tangent, so that the first iteration from the unloaded state sees it
-        unloaded = v1 == 0.0 and v2 == 0.0 and m3 == 0.0
+        unloaded = v1 == 0.0 and v2 == 0.0 and m_t == 0.0
         for i in (1, 2, 5):
             out_f[i] = 0.0
             out_qp[i] = qp[i] if unloaded else q[i]
             out_D[i, i] = k[i] if unloaded else floor * k[i]
         return STATE_ELASTIC if unloaded else STATE_SHEAR
-    # shear first, then torsion (Eq. 14 / A5 read as the torsion left by the shear):
-    # V on the Coulomb circle if the trial exceeds it, then |M3| <= M_u (1 - |V|^2/V_u^2)^(1/a).
-    # Continuous as M_u -> 0 (a hinge on an edge keeps its friction, loses its torsion).
-    vt = math.sqrt(v1 * v1 + v2 * v2)
-    dvu0 = -params[P_MU] * out_D[0, 0]  # d V_u / d dn
-    if vt > v_u * (1.0 - KINK_BAND):
-        n1 = v1 / vt
-        n2 = v2 / vt
-        ratio = v_u / vt
-        out_f[1] = v_u * n1
-        out_f[2] = v_u * n2
-        # d V / d q: (V_u/|v|)(I - n n^T) k_t on the tangential motions, n dV_u/d dn
-        out_D[1, 1] = ratio * (1.0 - n1 * n1) * k[1] + floor * k[1]
-        out_D[1, 2] = -ratio * n1 * n2 * k[2]
-        out_D[2, 1] = -ratio * n1 * n2 * k[1]
-        out_D[2, 2] = ratio * (1.0 - n2 * n2) * k[2] + floor * k[2]
-        out_D[1, 0] = n1 * dvu0
-        out_D[2, 0] = n2 * dvu0
-        out_qp[1] = q[1] - out_f[1] / k[1]
-        out_qp[2] = q[2] - out_f[2] / k[2]
-        out_f[5] = 0.0
-        out_qp[5] = q[5]
-        out_D[5, 5] = floor * k[5]
-        return STATE_SHEAR
-    out_f[1] = v1
-    out_f[2] = v2
-    out_qp[1] = qp[1]
-    out_qp[2] = qp[2]
-    out_D[1, 1] = k[1]
-    out_D[2, 2] = k[2]
-    return torsion(q, qp, params, v_u, cap, floor, out_f, out_qp, out_D)
-
-
-@njit(cache=True)
-def torsion(q, qp, params, v_u, cap, floor, out_f, out_qp, out_D):
-    """Torsion left by an elastic shear: ``|M3| <= M_u (1 - |V|^2 / V_u^2)^(1/alpha)`` with
-    ``M_u = c_T V_u`` on the compressed rectangle reduced by the eccentricities (uniform
-    stress, seed Fig. 10). Writes row 5; returns the state bits."""
-    k = params[P_K : P_K + 6]
     dims = params[P_DIMS : P_DIMS + 2]
-    alpha = params[P_ALPHA]
-    m3 = k[5] * (q[5] - qp[5])
-    r1 = max(dims[0] - 2.0 * (abs(out_f[4]) / cap if cap > 0.0 else 0.0), 0.0)
-    r2 = max(dims[1] - 2.0 * (abs(out_f[3]) / cap if cap > 0.0 else 0.0), 0.0)
-    c_t = torsion_coefficient(r1, r2)
-    m_u = c_t * v_u
-    b = (out_f[1] ** 2 + out_f[2] ** 2) / (v_u * v_u)
-    left = (1.0 - b) ** (1.0 / alpha) if b < 1.0 else 0.0
-    m_max = m_u * left
-    if abs(m3) < m_max * (1.0 - KINK_BAND):
-        out_f[5] = m3
-        out_qp[5] = qp[5]
+    reduced = (max(dims[0] - 2.0 * abs(centre[0]), 0.0), max(dims[1] - 2.0 * abs(centre[1]), 0.0))
+    m_u = torsion_coefficient(reduced[0], reduced[1]) * v_u
+    g = (v1 * v1 + v2 * v2) / (v_u * v_u)
+    if m_u > 0.0:
+        g += (abs(m_t) / m_u) ** params[P_ALPHA]
+    elif m_t != 0.0:
+        g = math.inf
+    out_f[1], out_f[2], out_f[5] = v1, v2, m_t
+    if g < 1.0 - KINK_BAND:
+        for i in (1, 2, 5):
+            out_qp[i] = qp[i]
+        out_D[1, :], out_D[2, :] = dv[0], dv[1]
         out_D[5, 5] = k[5]
-        return STATE_ELASTIC
-    sg = 1.0 if m3 >= 0.0 else -1.0
-    out_f[5] = sg * m_max
-    out_qp[5] = q[5] - out_f[5] / k[5]
-    out_D[5, 5] = floor * k[5]
-    if m_max <= 0.0:
-        return STATE_SHEAR
-    # tangent of M3 = sg M_u(q) (1 - b(q))^(1/alpha), b = |V|^2 / V_u^2 with V elastic
-    dvu0 = -params[P_MU] * out_D[0, 0]
-    dleft_db = -(1.0 / alpha) * (1.0 - b) ** (1.0 / alpha - 1.0)
-    db = np.zeros(6)
-    db[1] = 2.0 * out_f[1] * k[1] / (v_u * v_u)
-    db[2] = 2.0 * out_f[2] * k[2] / (v_u * v_u)
-    db[0] = -2.0 * b / v_u * dvu0
-    dmu = np.zeros(6)
-    torsion_capacity_gradient(dims, cap, r1, r2, v_u, out_f, out_D, dmu)
-    dmu[0] += c_t * dvu0
+        state = STATE_ELASTIC
+    else:
+        shear_torsion_flow(params, v_u, cap, reduced, dv, floor, out_f, out_D)
+        state = STATE_SHEAR
+    # back to the centroid: M3 = M3' + y_c x V; the elastic slip at the centroid
+    out_f[5] += centre[0] * out_f[2] - centre[1] * out_f[1]
     for j in range(6):
-        out_D[5, j] += sg * (left * dmu[j] + m_u * dleft_db * db[j])
-    return STATE_SHEAR
+        out_D[5, j] += d_centre[0, j] * out_f[2] + centre[0] * out_D[2, j]
+        out_D[5, j] -= d_centre[1, j] * out_f[1] + centre[1] * out_D[1, j]
+    if state == STATE_SHEAR:
+        twist = (out_f[5] - centre[0] * out_f[2] + centre[1] * out_f[1]) / k[5]
+        out_qp[1] = q[1] - out_f[1] / k[1] - twist * centre[1]
+        out_qp[2] = q[2] - out_f[2] / k[2] + twist * centre[0]
+        out_qp[5] = q[5] - twist
+    return state
 
 
 @njit(cache=True)
-def torsion_capacity_gradient(dims, cap, r1, r2, v_u, f, D, out):
+def compression_centre(f, D, cap, out, out_d):
+    """Centre of compression ``y_c = (M2, -M1) / cap`` [m] (where the compressive resultant
+    ``cap = f_t - N`` acts; 0 for ``cap <= 0``) into ``out`` (2,), and ``d y_c / d q`` from rows
+    0, 3, 4 of ``D`` into ``out_d`` (2, 6)."""
+    if cap <= 0.0:
+        return
+    out[0], out[1] = f[4] / cap, -f[3] / cap
+    for j in range(6):
+        # cap = f_t - N, so d cap = -D[0, j]
+        out_d[0, j] = D[4, j] / cap + f[4] * D[0, j] / (cap * cap)
+        out_d[1, j] = -D[3, j] / cap - f[3] * D[0, j] / (cap * cap)
+
+
+@njit(cache=True)
+def shear_torsion_flow(params, v_u, cap, reduced, dv, floor, out_f, out_D):
+    """Return of a trial ``(V, M3')`` outside the domain of Eq. (A5)
+    (:mod:`dem.kernels.shear_torsion_return`) and its tangent, on rows 1, 2, 5.
+
+    ``reduced`` the sides of the compressed rectangle [m]; ``dv`` (2, 6) the derivative of
+    the trial shear; rows 1, 2, 5 of ``out_f`` hold the trial ``(V1, V2, M3')``.
+    """
+    k = params[P_K : P_K + 6]
+    c_t = torsion_coefficient(reduced[0], reduced[1])
+    v_t = math.hypot(out_f[1], out_f[2])
+    n1, n2 = (out_f[1] / v_t, out_f[2] / v_t) if v_t > 0.0 else (0.0, 0.0)
+    s = 1.0 if out_f[5] >= 0.0 else -1.0
+    # d (v_t, |M3'_t|, V_u, M_u) / d q
+    dp = np.zeros((4, 6))
+    for j in range(6):
+        dp[0, j] = n1 * dv[0, j] + n2 * dv[1, j]
+        dp[2, j] = -params[P_MU] * out_D[0, j]
+    dp[1, 5] = s * k[5]
+    torsion_capacity_gradient(params[P_DIMS : P_DIMS + 2], cap, reduced, v_u, out_f, out_D, dp[3])
+    for j in range(6):
+        dp[3, j] += c_t * dp[2, j]
+    sol = np.empty(10)
+    nearest_on_boundary(v_t, abs(out_f[5]), v_u, c_t * v_u, params[P_ALPHA], k[1], k[5], sol)
+    ratio = sol[0] / v_t if v_t > 0.0 else sol[2]
+    for j in range(6):
+        d_len = sol[2] * dp[0, j] + sol[3] * dp[1, j] + sol[4] * dp[2, j] + sol[5] * dp[3, j]
+        d_m = sol[6] * dp[0, j] + sol[7] * dp[1, j] + sol[8] * dp[2, j] + sol[9] * dp[3, j]
+        # V = v n: the direction turns with the trial, the length follows v
+        along = n1 * dv[0, j] + n2 * dv[1, j]
+        out_D[1, j] = ratio * (dv[0, j] - n1 * along) + n1 * d_len
+        out_D[2, j] = ratio * (dv[1, j] - n2 * along) + n2 * d_len
+        out_D[5, j] = s * d_m
+    if v_t == 0.0:
+        for j in range(6):
+            out_D[1, j], out_D[2, j] = ratio * dv[0, j], ratio * dv[1, j]
+    out_f[1], out_f[2], out_f[5] = sol[0] * n1, sol[0] * n2, s * sol[1]
+    for i in (1, 2, 5):
+        out_D[i, i] += floor * k[i]
+
+
+@njit(cache=True)
+def torsion_capacity_gradient(dims, cap, reduced, v_u, f, D, out):
     """``V_u d c_T / d q`` through the eccentricities ``e1 = |M2| / cap``, ``e2 = |M1| / cap``
     of the reduced rectangle ``(r1, r2) = dims - 2 e`` (central differences of
     :func:`torsion_coefficient`); adds into ``out`` (6,)."""
     if cap <= 0.0:
         return
+    r1, r2 = reduced[0], reduced[1]
     h = 1e-6 * (dims[0] + dims[1])
     dc1 = 0.0
     dc2 = 0.0
@@ -329,11 +334,9 @@ def torsion_capacity_gradient(dims, cap, r1, r2, v_u, f, D, out):
     sg4 = 1.0 if f[4] >= 0.0 else -1.0
     sg3 = 1.0 if f[3] >= 0.0 else -1.0
     for j in range(6):
-        de1 = sg4 * D[4, j] / cap
-        de2 = sg3 * D[3, j] / cap
-        if j == 0:  # cap = f_t - N
-            de1 += abs(f[4]) * D[0, 0] / (cap * cap)
-            de2 += abs(f[3]) * D[0, 0] / (cap * cap)
+        # e = |M| / cap with cap = f_t - N
+        de1 = sg4 * D[4, j] / cap + abs(f[4]) * D[0, j] / (cap * cap)
+        de2 = sg3 * D[3, j] / cap + abs(f[3]) * D[0, j] / (cap * cap)
         out[j] -= v_u * 2.0 * (dc1 * de1 + dc2 * de2)
 
 

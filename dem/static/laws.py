@@ -7,8 +7,8 @@ a failed trial (:meth:`InterfaceLaw.keep_breaks`, the cracking cascade). Its num
 defaults (tangent floor, predictor, loose tolerance, fibre grid) live in its settings
 (:mod:`dem.static.settings`).
 
-- :class:`ResultantLaw`: seed 001's law on ``(N, V1, V2, M1, M2, M3)``
-  (:mod:`dem.kernels.interface_law`);
+- :class:`ResultantLaw`: seed 001's law on ``(N, V1, V2, M1, M2, M3)``, its normal stress
+  integrated over each joint polygon (:mod:`dem.kernels.interface_law`);
 - :class:`FibreLaw`: a grid of no-tension Mohr-Coulomb springs per interface
   (:mod:`dem.kernels.fibre_law`).
 """
@@ -23,6 +23,7 @@ import numpy as np
 from dem.geometry.interfaces import Interfaces
 from dem.kernels import fibre_law as fk
 from dem.kernels import interface_law as rk
+from dem.kernels.contact_stress import MAX_VERTICES
 from dem.static.settings import FibreLawSettings, ResultantLawSettings
 
 ALPHA_TABLE_A1 = np.array(
@@ -151,13 +152,14 @@ class _Committed:
 
 
 class ResultantLaw(_Committed):
-    """Seed 001's resultant law (:mod:`dem.kernels.interface_law`) on every joint."""
+    """Seed 001's resultant law (:mod:`dem.kernels.interface_law`) on every joint; the
+    parameter rows hold each joint's polygon (at most ``MAX_VERTICES`` corners)."""
 
-    def __init__(self, joints: JointArrays, settings: ResultantLawSettings):
+    def __init__(self, joints: JointArrays, settings: ResultantLawSettings, interfaces: Interfaces):
         self.settings = settings
         m = joints.n
         j11, j22 = joints.second_moments[:, 0], joints.second_moments[:, 1]
-        params = np.empty((m, rk.N_PARAMS))
+        params = np.zeros((m, rk.N_PARAMS))
         params[:, rk.P_K : rk.P_K + 6] = np.column_stack(
             [
                 joints.kn * joints.area,
@@ -168,7 +170,6 @@ class ResultantLaw(_Committed):
                 joints.kt * (j11 + j22),
             ]
         )
-        params[:, rk.P_LEVER : rk.P_LEVER + 4] = joints.lever
         params[:, rk.P_FT] = joints.tensile * joints.area
         params[:, rk.P_COHESION] = joints.cohesion * joints.area
         params[:, rk.P_MU] = joints.mu
@@ -178,6 +179,9 @@ class ResultantLaw(_Committed):
         )
         params[:, rk.P_FC] = joints.compressive
         params[:, rk.P_AREA] = joints.area
+        params[:, rk.P_STIFF : rk.P_STIFF + 2] = joints.kn, joints.kr
+        for k in range(m):
+            params[k, rk.P_N_CORNERS :] = _corner_row(interfaces.local_polygon(k), k)
         self.params = np.ascontiguousarray(params)
         # plastic motions q_p (m, 6), broken flags (m,)
         self.plastic = (np.zeros((m, 6)), np.zeros(m, dtype=np.bool_))
@@ -189,6 +193,23 @@ class ResultantLaw(_Committed):
         broken, state = np.empty(m, dtype=np.bool_), np.empty(m, dtype=np.int64)
         rk.resultant_law(q, *self.plastic, self.params, floor, f, qp, broken, state, D)
         return LawResponse(f, D, state, (qp, broken))
+
+
+def _corner_row(poly: np.ndarray, k: int) -> np.ndarray:
+    """``(n, y1, y2, ...)`` of interface ``k``'s polygon, CCW, padded to ``MAX_VERTICES``."""
+    n = len(poly)
+    if n > MAX_VERTICES:
+        raise ValueError(
+            f"interface {k} has {n} corners; the resultant law holds at most {MAX_VERTICES} "
+            "(use the fibre law, or raise dem.kernels.contact_stress.MAX_VERTICES)"
+        )
+    nxt = np.roll(poly, -1, axis=0)
+    if (poly[:, 0] * nxt[:, 1] - poly[:, 1] * nxt[:, 0]).sum() < 0.0:  # clockwise
+        poly = poly[::-1]
+    row = np.zeros(1 + 2 * MAX_VERTICES)
+    row[0] = n
+    row[1 : 1 + 2 * n] = poly.ravel()
+    return row
 
 
 def lobatto(n: int) -> tuple[np.ndarray, np.ndarray]:

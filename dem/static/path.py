@@ -4,12 +4,14 @@ Each live step prescribes the increment of a control ``w . u`` and solves for ``
 (:mod:`dem.static.newton`), which stays regular at limit points:
 
 - **control**: first ``w = F_L / |F_L|_1``, so ``c = w . u`` is the live-load-weighted mean
-  displacement [m]. When a step fails even at ``min_step_ratio`` times its first size away
-  from a plateau (near some peaks the path turns in ``c``, or a local mechanism forms that
-  ``c`` hardly measures: seed 001 S15 with return walls, resultant law), ``w`` becomes the unit
-  direction of the previous increment (the updated normal plane of Riks' method) with steps
-  measured in the length of the first increment; this follows the path through limit points
-  and snap-backs;
+  displacement [m]. After ``switch_after`` consecutive failed steps (near some peaks the
+  path turns in ``c``, or a local mechanism forms that ``c`` hardly measures: seed 001 S15
+  and S6 with return walls, resultant law), ``w`` becomes the unit direction of the previous
+  increment (the updated normal plane of Riks' method), the first step as long as that
+  increment and the step unit the length of the first increment; this follows the path
+  through limit points and snap-backs. Halving the fixed control's step down to
+  ``min_step_ratio`` first cost up to 40 Newton iterations per halving and left the path
+  creeping in steps of 1e-3 first increments at a constant lambda (S6: stalled after 715 s);
 - **step size**: the increment adapts to the Newton iteration count (``target_iterations``),
   halves on a failed step, and stays within ``max_step_factor`` first increments;
 - **cracking cascade**: when no step converges and the failed trial broke mortar joints, the
@@ -105,6 +107,7 @@ class PathFollower:
         self.floor = None
         self.n_steps, self.n_iterations = 0, n_iter
         self.n_loose = self.n_cascades = self.n_arc = 0
+        self.n_failed = 0  # consecutive failed steps
 
     @property
     def switched(self) -> bool:
@@ -146,12 +149,16 @@ class PathFollower:
         return corrector.solve(point, con, self.floor)
 
     def _failed(self, out: Outcome) -> tuple[str, str] | None:
-        """A step without equilibrium: shorter step, cascade, control switch, or the end."""
+        """A step without equilibrium: shorter step, control switch, cascade, or the end."""
         self.n_iterations += out.iterations
         self.last_dc = 0.0
         if self.dc >= 0.5 * self.dc_cascade * (1 + 1e-12):
             self.dc_cascade = self.dc
         self.dc *= 0.5
+        self.n_failed += 1
+        can_switch = not self.switched and self.du_first > 0 and np.any(self.last_du)
+        if can_switch and self.n_failed >= self.settings.switch_after:
+            return self._switch()
         if self.dc >= self.settings.min_step_ratio * self.dc_ref:
             return None
         lam = self.point.lam
@@ -166,16 +173,21 @@ class PathFollower:
             logger.info("cracking cascade at lambda = %.6g: cracks kept", lam)
             self.dc = self.dc_cascade
             return None
-        du_norm = float(np.linalg.norm(self.last_du))
-        if not self.switched and self.du_first > 0 and du_norm > 0:
-            # the path turns away from the fixed control: follow it along the normal plane of
-            # its last increment instead
-            logger.info("control switched to the path direction at lambda = %.6g", lam)
-            self.w = self.last_du / du_norm
-            self.dc = self.dc_cascade = self.dc_ref = self.du_first
-            self.dc_max = self.settings.max_step_factor * self.dc_ref
-            return None
+        if can_switch:
+            return self._switch()
         return "stalled", "stalled: " + self._stall_message(out)
+
+    def _switch(self) -> None:
+        """Follow the path along the normal plane of its last increment instead of the fixed
+        control, starting with a step as long as that increment (which converged)."""
+        logger.info("control switched to the path direction at lambda = %.6g", self.point.lam)
+        du_norm = float(np.linalg.norm(self.last_du))
+        self.w = self.last_du / du_norm
+        self.dc = self.dc_cascade = du_norm
+        self.dc_ref = self.du_first
+        self.dc_max = self.settings.max_step_factor * self.dc_ref
+        self.n_failed = 0
+        return None
 
     def _stall_message(self, out: Outcome) -> str:
         model = self.model
@@ -193,6 +205,7 @@ class PathFollower:
         self.floor = out.floor
         self.n_loose += int(out.loose)
         self.model.law.commit(new.ev.law)
+        self.n_failed = 0
         self.n_iterations += out.iterations
         self.n_steps += 1
         self.last_du = new.u - old.u

@@ -47,8 +47,12 @@ class ResultantLawSettings:
     tangent_floor : float
         Fraction of the elastic stiffness kept by yielded components of the iteration matrix
         (the residual uses the exact law). Blocks held only by yielded joints make the tangent
-        nearly singular without it: on seed 001's S11 1e-9 stalls the path, while 1e-6 to 1e-3
-        give the same lambda_max to 0.01 % (1e-4 the fastest).
+        nearly singular without it. The law's normal part is smooth (joints open
+        progressively), and as for the fibre law a floor near the consistent tangent converges
+        best (1e-9): at 1e-4 the dead load of S13 with return walls of blocks crept (head
+        joints barely pressed, partly open and sliding) and found no equilibrium; 1e-6 and
+        1e-9 gave the same lambda_max to 0.03 % on it, S13 with a fixed column, the 3 x 13
+        Orduna panel and a dry wall.
     predictor : bool
         Start each step from the last increment scaled to the new one: without it the first
         iterate of every step unloaded the joints that keep yielding and the path crept
@@ -62,7 +66,7 @@ class ResultantLawSettings:
 
     name: ClassVar[str] = "resultant"
     alpha: float | None = None
-    tangent_floor: float = 1e-4
+    tangent_floor: float = 1e-9
     predictor: bool = True
     accept_tolerance: float | None = None
 
@@ -78,7 +82,7 @@ class ResultantLawSettings:
         """The law object of a scene's joints (:class:`dem.static.laws.ResultantLaw`)."""
         from dem.static.laws import ResultantLaw
 
-        return ResultantLaw(joints, self)
+        return ResultantLaw(joints, self, interfaces)
 
 
 @dataclass(frozen=True)
@@ -181,6 +185,12 @@ class StaticSettings:
         Relative residual ``|R| / (|F_D| + |lambda F_L|)`` for convergence.
     min_step_ratio : float
         Smallest control increment, relative to the first, before giving up a step.
+    switch_after : int
+        Consecutive failed steps after which the fixed control gives way to the path
+        direction (:mod:`dem.static.path`): the path turns away from the control, or a local
+        mechanism forms that the control hardly measures (seed 001 S6 with return walls of
+        blocks, resultant law: with the switch only at ``min_step_ratio`` it stalled after
+        715 s; with 3, a plateau).
     plateau_slope : float
         A step is on the collapse plateau when ``d lambda / d c`` is below this fraction of
         the initial secant slope (measured back over at least the control length at which
@@ -230,6 +240,7 @@ class StaticSettings:
     target_iterations: int = 10
     tolerance: float = 1e-6
     min_step_ratio: float = 1e-4
+    switch_after: int = 3
     plateau_slope: float = 2e-3
     plateau_steps: int = 4
     plateau_rise: float = 1e-3
@@ -251,7 +262,13 @@ class StaticSettings:
                 raise ValueError(f"{name} must be None or finite and >= 0, got {v!r}")
         if not (math.isfinite(self.tensile_strength) and self.tensile_strength >= 0):
             raise ValueError(f"tensile_strength must be >= 0 [Pa], got {self.tensile_strength}")
-        for name in ("max_steps", "max_iterations", "target_iterations", "plateau_steps"):
+        for name in (
+            "max_steps",
+            "max_iterations",
+            "target_iterations",
+            "plateau_steps",
+            "switch_after",
+        ):
             _integer(name, getattr(self, name), 1)
         _integer("dead_steps", self.dead_steps, 1)
         for name in (

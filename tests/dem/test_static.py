@@ -8,6 +8,17 @@ from dem.scenes.running_bond_wall import running_bond_wall
 from dem.static import StaticSettings, StaticSolverError, solve_collapse
 
 MODELS = ("resultant", "fibre")
+# The rigid-block collapse loads below are limits of elastic joints: the fibre law (its outer
+# springs on the edges) reaches them once all but the edge springs are open; the resultant law
+# integrates the stress of the whole joint, whose compressed strip narrows only as
+# theta^(-1/2) when the block rocks, so its path ends on the plateau just below the limit
+# (0.988 b / h for a single block). Both must stay below it.
+BELOW = {"resultant": 2e-2, "fibre": 1e-3}
+
+
+def _near_limit(lam, limit, model):
+    """``lam`` at most ``limit`` (up to the residual tolerance) and within ``BELOW``."""
+    assert limit * (1 - BELOW[model]) <= lam <= limit * (1 + 1e-4), (lam, limit)
 
 
 def _box(x0, x1, y0, y1, z0, z1):
@@ -31,7 +42,7 @@ def test_single_block_collapses_at_min_of_mu_and_b_over_h(model, mu):
     # closed form: sliding at lambda = mu, overturning about the base edge at lambda = b / h
     b, h = 0.2, 0.5
     result = solve_collapse(_stack([(b, h)], mu), StaticSettings(interface_model=model))
-    np.testing.assert_allclose(result.lambda_max, min(mu, b / h), rtol=1e-3)
+    _near_limit(result.lambda_max, min(mu, b / h), model)
     assert result.termination == "plateau"
     mech = result.mechanism[1]
     if mu < b / h:  # pure sliding along the load, no rotation
@@ -47,7 +58,7 @@ def test_single_block_out_of_plane_direction(model):
     depth, h = 0.12, 0.4
     scene = _stack([(0.3, h)], 0.7, direction=(0.0, 1.0, 0.0), depth=depth)
     result = solve_collapse(scene, StaticSettings(interface_model=model))
-    np.testing.assert_allclose(result.lambda_max, depth / h, rtol=1e-3)
+    _near_limit(result.lambda_max, depth / h, model)
 
 
 @pytest.mark.parametrize("model", MODELS)
@@ -57,7 +68,7 @@ def test_two_block_stack(model, mu):
     # rocking of the whole stack about the base edge (b / 2h), of the top block (b / h)
     b, h = 0.2, 0.3
     result = solve_collapse(_stack([(b, h), (b, h)], mu), StaticSettings(interface_model=model))
-    np.testing.assert_allclose(result.lambda_max, min(mu, b / (2 * h), b / h), rtol=1e-3)
+    _near_limit(result.lambda_max, min(mu, b / (2 * h), b / h), model)
 
 
 def test_free_standing_wall_overturns_at_s_over_h():
@@ -66,16 +77,20 @@ def test_free_standing_wall_overturns_at_s_over_h():
     scene = running_bond_wall(3, 4, 81, 210, 70, 20, 0.7, live="weight")
     for model in MODELS:
         result = solve_collapse(scene, StaticSettings(interface_model=model))
-        np.testing.assert_allclose(result.lambda_max, 70 / (4 * 81), rtol=1e-3)
+        _near_limit(result.lambda_max, 70 / (4 * 81), model)
 
 
 def test_symmetric_wall_has_symmetric_mechanism():
     # a wall with both end columns fixed is symmetric about x = L/2 (running bond with an
     # even number of blocks is mirror symmetric course by course): the out-of-plane
     # displacements of mirror blocks at collapse match (to 1 % of the largest; the last
-    # increment alone may pick one of two mirror mechanisms, so the total field is compared)
+    # increment alone may pick one of two mirror mechanisms, so the total field is compared).
+    # Between two fixed columns the joints' rocking lift is confined and the wall arches
+    # without bound (test_static_collapse): a compressive strength bounds it.
     scene = running_bond_wall(4, 4, 81, 210, 70, 20, 0.7, fixed_columns=("left", "right"))
-    result = solve_collapse(scene, StaticSettings(interface_model="resultant"))
+    result = solve_collapse(
+        scene, StaticSettings(interface_model="resultant", compressive_strength=2e5)
+    )
     c = scene.assembly.centroid
     length = 4 * 0.210
     uy = result.displacements[:, 1]
@@ -125,10 +140,10 @@ def test_wall_with_fixed_column_reaches_its_mechanism_whatever_the_step():
 
 def test_path_followed_past_a_stall_of_the_fixed_control():
     # seed 001 S15 with return walls of blocks, resultant law: with a tangent floor of 1e-6
-    # the fixed control c stalls at 0.1726 (step cut to 1e-4 of the first, lambda still
-    # rising); at the default floor and load step 0.02 it does not stall. The path-direction
-    # control must carry the first run to the plateau of the second (rtol 1 %), below the
-    # associated bound of the same scene.
+    # the fixed control c stalled at 0.1726 (step cut to 1e-4 of the first, lambda still
+    # rising) with seed 001's rocking rule; the path-direction control had to carry it to the
+    # plateau. With the joints that open progressively neither run stalls (issue 11); both
+    # must still reach the same plateau (rtol 1 %), below the associated bound of the scene.
     from dem.scenes.seed001_walls import SPECIMENS
     from limit.problems import LimitSettings
     from limit.solve import limit_analysis
@@ -138,7 +153,6 @@ def test_path_followed_past_a_stall_of_the_fixed_control():
         solve_collapse(scene, StaticSettings(mu=0.7, on_failure="return", **kw))
         for kw in (dict(tangent_floor=1e-6), dict(load_step=0.02))
     )
-    assert stalled.n_arc_steps > 0 and direct.n_arc_steps == 0
     assert stalled.termination == direct.termination == "plateau"
     np.testing.assert_allclose(stalled.lambda_max, direct.lambda_max, rtol=1e-2)
     assert stalled.lambda_max <= limit_analysis(scene, LimitSettings()).lam

@@ -51,7 +51,8 @@ def test_a_mechanism_is_not_mistaken_for_none():
     scene = running_bond_wall(3, 3, 81, 210, 70, 20, 0.7, live="weight")
     result = solve_collapse(scene)
     assert result.collapsed and result.termination == "plateau"
-    np.testing.assert_allclose(result.lambda_max, 70 / (3 * 81), rtol=1e-3)
+    # the default (resultant) law approaches the rigid-block limit from below (test_static)
+    assert 0.98 * 70 / (3 * 81) <= result.lambda_max <= 70 / (3 * 81) * (1 + 1e-4)
 
 
 def test_run_cut_short_raises_and_says_it_still_rises():
@@ -203,6 +204,7 @@ def test_no_sliding_is_refused_by_name_not_failed_on(model):
             with pytest.raises(ValueError, match=r"finite friction.*interfaces 0 \(blocks 0-1\)"):
                 solve_collapse(scene, settings)
         else:
-            np.testing.assert_allclose(
-                solve_collapse(scene, settings).lambda_max, expect, rtol=2e-3
-            )
+            # the resultant law approaches the rigid-block limit from below (test_static)
+            lam = solve_collapse(scene, settings).lambda_max
+            assert expect * (1 - (2e-2 if model == "resultant" else 2e-3)) <= lam
+            assert lam <= expect * (1 + 2e-3)

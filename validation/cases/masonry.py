@@ -200,10 +200,27 @@ def _kernel_note() -> str:
         spread = "-" if r["ours"] is None else f"{100 * r['ours']:.2f} %"
         lines.append(f"| {r['quantity']} | {values} | {spread} | {r['extra']['terminations']} |")
     quick = " (quick subset)" if data.get("quick") else ""
+    spreads = [(r["quantity"], r["ours"]) for r in data["rows"]]
     return (
         f"spread of lambda across the OpenBLAS kernels {', '.join(KERNELS)} "
-        f"(`masonry-restrepo-kernels`{quick}, commit {data.get('git_commit', '?')[:12]}):\n\n"
+        f"(`masonry-restrepo-kernels`{quick}, commit {data.get('git_commit', '?')[:12]}): "
+        + _spread_summary(spreads)
+        + "\n\n"
         + "\n".join(lines)
+    )
+
+
+def _spread_summary(spreads: list[tuple[str, float | None]]) -> str:
+    """One sentence on the spreads ``(run, spread or None)`` of a kernel run."""
+    done = [(s, q) for q, s in spreads if s is not None]
+    if not done:
+        return "no run collapsed under every kernel."
+    worst, run = max(done)
+    within = sum(s <= 0.01 for s, _ in done)
+    return (
+        f"{within} of the {len(done)} runs that collapsed under every kernel are within 1 % "
+        f"(largest {100 * worst:.2g} %, {run}); {len(spreads) - len(done)} of {len(spreads)} "
+        "did not collapse under some kernel (no spread)."
     )
 
 
@@ -229,7 +246,7 @@ def run_restrepo_kernels(quick: bool = True):
             variants = VARIANTS
         for model, variant in variants:
             start = time.perf_counter()
-            runs = [_run_under_kernel(kernel, name, model, variant, quick) for kernel in KERNELS]
+            runs = _run_under_kernels(name, model, variant, quick)
             lams = [r["lam"] for r in runs]
             spread = None
             if all(lam is not None for lam in lams):
@@ -250,27 +267,42 @@ def run_restrepo_kernels(quick: bool = True):
                 )
             )
     notes = (
-        "Each Table 2 analysis of `masonry-restrepo` (same settings) rerun in a subprocess "
-        f"under OPENBLAS_CORETYPE = {', '.join(KERNELS)} (this CPU supports AVX2, AVX-512 "
-        "and AVX); `ours` = (max - min) / min of lambda over the kernels, None if a run did "
-        "not collapse. The kernels round differently (FMA, vector width); the Newton "
+        "Each Table 2 analysis of `masonry-restrepo` (same settings) rerun in three "
+        f"concurrent subprocesses under OPENBLAS_CORETYPE = {', '.join(KERNELS)} (this CPU "
+        "supports AVX2, AVX-512 and AVX; OPENBLAS_NUM_THREADS = 1); `ours` = (max - min) / "
+        "min of lambda over the kernels, None if a run did not collapse. The kernels round "
+        "differently (FMA, vector width); the Newton "
         "iterations at the joints' kinks amplify that round-off, and where frictional "
         "equilibrium is not unique a step that converges in 29 iterations on one kernel and "
-        "fails at 30 on another changes the step sequence and with it the path."
+        "fails at 30 on another changes the step sequence and with it the path. "
+        + _spread_summary([(r.quantity, r.ours) for r in rows])
     )
     return rows, notes
 
 
-def _run_under_kernel(kernel: str, name: str, model: str, variant: str, quick: bool) -> dict:
-    env = dict(os.environ, OPENBLAS_CORETYPE=kernel)
+def _run_under_kernels(name: str, model: str, variant: str, quick: bool) -> list[dict]:
+    """One Table 2 analysis under each of the ``KERNELS``, in concurrent subprocesses."""
     args = [sys.executable, "-m", "validation.cases.masonry", name, model, variant]
-    proc = subprocess.run(
-        args + (["--quick"] if quick else []), env=env, capture_output=True, text=True
-    )
-    if proc.returncode != 0:
-        tail = proc.stderr.strip().splitlines()[-1:] or ["?"]
-        return {"lam": None, "termination": f"error: {tail[0][:80]}"}
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+    args += ["--quick"] if quick else []
+    procs = [
+        subprocess.Popen(
+            args,
+            env=dict(os.environ, OPENBLAS_CORETYPE=kernel, OPENBLAS_NUM_THREADS="1"),
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for kernel in KERNELS
+    ]
+    runs = []
+    for proc in procs:
+        out, err = proc.communicate()
+        if proc.returncode != 0:
+            tail = err.strip().splitlines()[-1:] or ["?"]
+            runs.append({"lam": None, "termination": f"error: {tail[0][:80]}"})
+        else:
+            runs.append(json.loads(out.strip().splitlines()[-1]))
+    return runs
 
 
 # ----------------------------------------------------------------------------------------------
@@ -375,17 +407,21 @@ def run_restrepo(quick: bool = True):
         "S32 has no return wall; its top is held by the beams (assumed: free, it overturns "
         "at 0.084). Opening sizes of S23/S34 are assumed (see settings). `blocks_6` (full "
         "runs only): return walls 6 blocks long, the sensitivity to that assumption.\n\n"
-        "Known behaviour of the laws. Resultant law (the seed's) + fixed column: the law "
-        "rotates its hinges about the joint centroid, without uplift, so the fixed blocks that "
-        "overlap the wall cannot lock it; the free wall overturns about its base sliding along "
-        "the column(s), a little above the free wall's s/H = 0.067, well below the seed's "
-        "0.10-0.35 (we cannot reproduce the seed's diagonal cracks). Fibre law + fixed column: "
-        "the rocking uplift is confined by the immovable column(s), and with two columns the "
-        "arch thrust grows without bound (no collapse unless a compressive strength is set). "
-        "Resultant law over openings without lintels: the blocks above an opening have no "
-        "support without dilatancy (a mechanism under the dead load). Return walls built as "
-        "blocks: the closest variant for both laws; the two-sided specimens are capped by the "
-        "assumed 3-block return walls, which overturn themselves.\n\n"
+        "Known behaviour of the laws (measured at commit f58a4a8, `benchmarks/bench_static.py "
+        "--table2` and `masonry-restrepo-kernels`). Both laws hinge a joint on its edges (the "
+        "resultant law since issue 11), and where both collapse they agree within 5 % (return "
+        "walls of blocks: within 1.6 % but for S11, 0.112 against 0.118; a fixed column: "
+        "within 4 %). Fixed column(s): the rocking uplift is confined by the immovable "
+        "column(s); with two of them (S6, S1-S2-S3, S5) the arch thrust grows without bound "
+        "and no run collapses within max_steps unless a compressive strength is set (S6 with "
+        "the fibre law ends in a snap-back at lambda 14.7: an arching capacity, not the tilting "
+        "collapse); over the openings of S23 the same arching gives lambda above 4. The "
+        "resultant law with return walls of blocks finds no dead-load equilibrium for S23 "
+        "within its 120 iterations (listed as an error; it converges with 4 dead-load "
+        "increments or max_iterations = 100, so it is a Newton stall, not a mechanism). "
+        "Return walls built as blocks: the closest variant for both laws; the two-sided "
+        "specimens are capped by the assumed 3-block return walls, which overturn "
+        "themselves.\n\n"
         "Collapse is judged against the initial slope and, while lambda still rises at every "
         "step, against the recent path (dem.collapse_criteria); a run that did not collapse "
         "is listed below and has no value in `ours`.\n\n"
