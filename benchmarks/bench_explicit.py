@@ -1,10 +1,16 @@
 """Cost of the explicit solver: per node per step, the converged 5 x 5 run, the seed's resolution.
 
-1. Step cost on the relaxed 5 x 5, 2.5 degree panel with the indenter in contact, for several
-   node spacings, serial and parallel contact loops, and the share of the contact kernel and of
-   the force accumulation in a step: wall and process-CPU time per step and per node (the
-   machine is shared: CPU / wall says how much of the cores we had, the load average is
-   printed). ``contacts`` is the node loop alone (forces and their sums per block).
+Costs per node and step count every node of the model (surface nodes and indenter nodes), not
+only the nodes tested in a step. The machine is shared: wall and process-CPU times are both
+printed (CPU / wall says how much of the cores we had) with the load average, and serial and
+parallel are compared within one run.
+
+1. Step cost on the relaxed 5 x 5, 2.5 degree panel for several node spacings, with the serial
+   and the parallel node loop: a whole step (separated entries skipped while they cannot
+   touch), and the node loop over every entry in four variants that give its profile
+   (``PARTS``): every entry skipped (bookkeeping and the pairs' frames), signed distance only,
+   plus the normal force and the sums, and everything (friction included). Then the serial /
+   parallel ratio of the step's wall time, with the thread count and threading layer.
 2. The full 5 x 5, 2.5 degree run (relaxation + indentation until the central block is out) at
    the discretisation ``tis-convergence`` calls converged (``validation.cases.tis.CONVERGED``),
    with its wall time and cost per node per step (issue 12 target: 15 ns).
@@ -26,6 +32,9 @@ from __future__ import annotations
 import argparse
 import os
 import time
+
+import numba
+import numpy as np
 
 from dem.explicit import ExplicitModel, ExplicitSettings, RelaxationSettings
 from dem.kernels.contact_force import node_contacts, node_contacts_parallel
@@ -60,25 +69,50 @@ def clock(fn, n: int) -> tuple[float, float]:
 
 
 def step_cost(model: ExplicitModel, n_steps: int) -> dict:
-    """Per-step cost of the whole step and of its node loop."""
-    nodes = model.nodes.n_nodes + len(model.indenter.block)
+    """Per-step cost of the whole step and of parts of its node loop (see ``PARTS``)."""
     st, sc = model.state, model.scratch
     quat_to_rot(st.motion.quat, sc.rot)
-    contacts = st.contacts._replace(shear=st.contacts.shear.copy())
     kernel = node_contacts_parallel if model.parallel else node_contacts
-    parts = {
-        "step": clock(lambda: model.advance(n_steps), 1),
-        "contacts": clock(lambda: kernel(model.surface, contacts, st.motion, model.bodies,
-                                         model.shapes, model.law, 0.0, sc), n_steps),
-    }  # fmt: skip
-    step_wall, step_cpu = parts["step"]
-    parts["step"] = (step_wall / n_steps, step_cpu / n_steps)
-    return {"nodes": nodes, "entries": model.n_entries, "parts": parts}
+
+    def loop(contacts, law, reset):
+        def run():
+            reset(sc)
+            kernel(model.surface, contacts, st.motion, model.bodies, model.shapes, law, 1e-9,
+                   sc, model.pairs, False)  # fmt: skip
+
+        return run
+
+    contacts = st.contacts._replace(shear=st.contacts.shear.copy())
+    parts = {"step": clock(lambda: model.advance(n_steps), 1)}
+    parts["step"] = tuple(x / n_steps for x in parts["step"])
+    for name, (weight, k_t, gap) in PARTS.items():
+        c = contacts if weight else contacts._replace(weight=np.zeros_like(contacts.weight))
+        law = model.law if k_t else model.law._replace(k_t=0.0)
+        run = loop(c, law, lambda s, gap=gap: s.skip_gap.fill(gap))
+        run()  # compile
+        parts[name] = clock(run, n_steps)
+    return {"nodes": model.nodes.n_nodes + len(model.indenter.block),
+            "entries": model.n_entries, "parts": parts}  # fmt: skip
+
+
+PARTS = {
+    "skipped": (True, True, 1.0),
+    "distance": (False, True, 0.0),
+    "normal": (True, False, 0.0),
+    "contacts": (True, True, 0.0),
+}
+"""Node loop variants timed (weights kept, friction kept, skip gap set before each pass):
+every entry skipped (the loop's bookkeeping and the pairs' frames), every entry evaluated with
+zero weights (signed distance only), without friction (signed distance, normal force and
+sums) and the whole loop (every entry evaluated: no skipping)."""
 
 
 def print_step_costs(spacings) -> None:
-    print("1. step cost, relaxed 5x5 theta=2.5, indenter in contact (ns per node and step):")
+    print("1. step cost, relaxed 5x5 theta=2.5 (ns per node and step, all nodes counted; "
+          "'step' is a whole step with the skipping of separated entries, the parts are node "
+          "loops over every entry):")  # fmt: skip
     for spacing in spacings:
+        walls = {}
         for parallel in (False, True):
             model = relaxed_panel(spacing, parallel)
             r = step_cost(model, n_steps=max(20, int(2e6 / model.nodes.n_nodes)))
@@ -87,8 +121,13 @@ def print_step_costs(spacings) -> None:
                 for name, (w, c) in r["parts"].items()
             )
             w, c = r["parts"]["step"]
+            walls[parallel] = w
             print(f"  h={spacing:.2f} mm parallel={parallel!s:5} {r['nodes']:7d} nodes "
-                  f"{r['entries']:7d} entries: {text}; CPU/wall {c / w:.2f}")  # fmt: skip
+                  f"{r['entries']:7d} entries, {len(model.pairs.a)} pairs: {text}; "
+                  f"CPU/wall {c / w:.2f}")  # fmt: skip
+        ratio = walls[False] / walls[True]
+        print(f"  h={spacing:.2f} mm: serial / parallel step wall time {ratio:.2f} "
+              f"({numba.get_num_threads()} threads, layer {numba.threading_layer()})")  # fmt: skip
 
 
 def full_run(disc: dict) -> dict:
@@ -101,8 +140,9 @@ def full_run(disc: dict) -> dict:
     print(
         f"  wall {wall:.1f} s (CPU {cpu:.1f} s), {steps} steps ({info['steps_relaxation']} "
         f"relaxation), dt {info['dt']:.3e} s, {info['n_nodes']} nodes, "
-        f"{info['cost_per_node_step_s'] * 1e9:.1f} ns/node/step in the indentation loop "
-        f"(target 15)"
+        f"{info['cost_per_node_step_s'] * 1e9:.1f} ns/node/step wall in the indentation loop "
+        f"and {info['cpu_per_node_step_s'] * 1e9:.1f} process CPU (target 15; all nodes "
+        f"counted)"
     )
     print(f"  peak load {res.peak_load:.2f} N at {res.deflection_at_peak / MM:.3f} mm")
     return {"steps": steps, "wall": wall}
@@ -126,13 +166,14 @@ def seed_resolution(steps: int, full: bool) -> None:
         nodes = model.nodes.n_nodes + len(model.indenter.block)
         model.advance(5)  # compile
         wall, cpu = clock(lambda model=model: model.advance(SEED_STEPS), 1)
-        per_step = wall / SEED_STEPS
+        per_step, cpu_step = wall / SEED_STEPS, cpu / SEED_STEPS
         print(
             f"  parallel={parallel!s:5} set-up {setup:.1f} s, {nodes} nodes, "
             f"{model.n_entries} entries: {per_step * 1e3:.1f} ms/step wall "
-            f"({cpu / wall:.2f} CPU/wall), {per_step / nodes * 1e9:.1f} ns/node/step; "
-            f"projected run of {steps} steps: {setup + per_step * steps:.0f} s wall "
-            f"(target 600 s; a projection, not a run)"
+            f"({cpu / wall:.2f} CPU/wall), {per_step / nodes * 1e9:.1f} ns/node/step wall, "
+            f"{cpu_step / nodes * 1e9:.1f} CPU; projected run of {steps} steps: "
+            f"{setup + per_step * steps:.0f} s wall at this load, {cpu_step * steps:.0f} CPU s "
+            f"(target 600 s wall on 2 cores; a projection, not a run)"
         )
 
 

@@ -34,11 +34,12 @@ from dem.explicit.state import (
     Law,
     Motion,
     Nodes,
+    PairFrames,
     Scratch,
     Shapes,
 )
 from dem.explicit.timestep import choose_time_step, highest_frequency
-from dem.kernels.broadphase import build_pairs, carry_history
+from dem.kernels.broadphase import build_pairs, carry_history, single_faces
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
     MU_RULE_MIN,
@@ -56,6 +57,12 @@ from dem.kernels.integrate import (
 from dem.scene import Assembly, Scene
 
 logger = logging.getLogger(__name__)
+
+# The parallel node loop opens one OpenMP region per time step. Worker threads that spin
+# between regions (libgomp's default) starve on a shared machine: with 2 cores and 5 busy
+# processes a step took 3.2 times the serial one, with sleeping workers 1.05 times
+# (benchmarks/bench_explicit.py). An explicit setting of the user wins.
+os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 
 class ExplicitModel:
@@ -143,7 +150,7 @@ class ExplicitModel:
         empty = Contacts(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0),
                          np.zeros((0, 3)), ref.copy(), quat.copy())  # fmt: skip
         self.state = ExplicitState(motion, empty)
-        self.scratch = Scratch.empty(n, 0)
+        self._new_scratch()
         self.rebuild()
         self.state.n_rebuilds = 0
         with_indenter = indenter_radius > 0 and indenter_block is not None
@@ -252,7 +259,20 @@ class ExplicitModel:
         self.state.contacts = Contacts(node, block, weight, shear, motion.pos.copy(),
                                        motion.quat.copy())  # fmt: skip
         self.state.n_rebuilds += 1
-        self.scratch = Scratch.empty(self.n_blocks, len(node))
+        self._new_scratch()
+
+    def _new_scratch(self) -> None:
+        """Work arrays and block pairs (``scratch``, ``pairs``) for the current neighbour list
+        (every entry is evaluated at the next step)."""
+        self.scratch = Scratch.empty(self.n_blocks, self.n_entries)
+        contacts = self.state.contacts
+        rot_build = np.zeros((self.n_blocks, 3, 3))
+        quat_to_rot(contacts.quat_build, rot_build)
+        single = np.empty(self.n_entries, dtype=np.int64)
+        single_faces(self.surface, contacts.node, contacts.block, contacts.pos_build, rot_build,
+                     self.bodies, self.shapes, self.settings.margin, single)  # fmt: skip
+        self.pairs = PairFrames.of_list(self.surface.block, contacts, single, self.n_blocks,
+                                        self.shapes.face_ptr)  # fmt: skip
 
     # -- loads, motion measures, state ---------------------------------------------------------
     def set_external_wrench(self, wrench: np.ndarray) -> None:
@@ -298,7 +318,7 @@ class ExplicitModel:
     def restore(self, state: ExplicitState) -> None:
         """Continue from ``state`` (copied: the argument stays usable)."""
         self.state = state.copy()
-        self.scratch = Scratch.empty(self.n_blocks, self.n_entries)
+        self._new_scratch()
 
     def check_supported(self) -> None:
         """Refuse free blocks that no chain of contacts connects to a support.
@@ -339,7 +359,7 @@ class ExplicitModel:
         quat_to_rot(self.quat, scratch.rot)
         contacts = self.state.contacts._replace(shear=self.state.contacts.shear.copy())
         node_contacts(self.surface, contacts, self.state.motion, self.bodies, self.shapes,
-                      self.law, 0.0, scratch)  # fmt: skip
+                      self.law, 0.0, scratch, self.pairs, True)  # fmt: skip
         return scratch
 
     def contact_wrenches(self, sphere: tuple | None = None) -> tuple[np.ndarray, ...]:
@@ -415,7 +435,7 @@ class ExplicitModel:
                 left, self.dt, self.state.t, alpha, self.settings.local_damping, self.parallel,
                 self.bodies, self.shapes,
                 self.surface, self.law, self.state.motion, self.state.contacts, self.scratch,
-                sphere, acc,
+                self.pairs, sphere, acc,
             )  # fmt: skip
             left -= done
             if status == STATUS_NOT_FINITE:

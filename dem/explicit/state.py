@@ -185,6 +185,88 @@ class Contacts(NamedTuple):
     quat_build: np.ndarray
 
 
+class PairFrames(NamedTuple):
+    """The block pairs of the neighbour list and their relative frames at the current step.
+
+    Every entry belongs to the ordered pair ``(a, b)`` of its node's block and its neighbour.
+    Per step, :func:`dem.kernels.contact_force.pair_frames` writes each pair's relative pose
+    and velocity once, so that an entry needs no transform to test its node against ``b``'s
+    face planes: ``n_g . X - d_g = face_v . r0 - face_d`` for the node's reference offset
+    ``r0`` (``X`` the node in ``b``'s reference frame).
+
+    Attributes
+    ----------
+    entry : (m,) int64
+        Pair of each entry.
+    single_face : (m,) int64
+        The only face of ``b`` that can be the entry's nearest plane until the next rebuild,
+        by its position among ``b``'s faces, or -1 (several can;
+        :func:`dem.kernels.broadphase.single_faces`).
+    a, b : (p,) int64
+        Node block and neighbour block of each pair.
+    face_ptr : (p + 1,) int64
+        Rows ``face_ptr[q]:face_ptr[q + 1]`` of the ``face_*`` arrays are pair ``q``'s rows,
+        one per face of ``b`` in ``b``'s face order.
+    arm : (p, 3) float64
+        ``c_a - c_b`` [m].
+    vel, omega : (p, 3) float64
+        ``v_a - v_b - omega_b x arm`` [m/s] and ``omega_a - omega_b`` [rad/s]: the velocity of
+        ``a``'s material point at ``c_a + r`` relative to ``b``'s is ``vel + omega x r``.
+    to_b : (p, 3, 3) float64
+        ``R_b^T R_a``; with ``shift`` (p, 3) ``R_b^T arm + C0_b`` [m]: ``X = to_b r0 + shift``.
+    face_v : (pf, 3) float64
+        ``R_a^T R_b n_g``: ``b``'s face normal in ``a``'s reference frame.
+    face_u : (pf, 3) float64
+        ``R_b n_g``: the face normal in the world.
+    face_d : (pf,) float64
+        ``d_g - n_g . C0_b - face_u . arm`` [m]: the plane's offset in ``a``'s reference
+        frame.
+    """
+
+    entry: np.ndarray
+    single_face: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    face_ptr: np.ndarray
+    arm: np.ndarray
+    vel: np.ndarray
+    omega: np.ndarray
+    to_b: np.ndarray
+    shift: np.ndarray
+    face_v: np.ndarray
+    face_u: np.ndarray
+    face_d: np.ndarray
+
+    @classmethod
+    def of_list(cls, node_block: np.ndarray, contacts: Contacts, single_face: np.ndarray,
+                n_blocks: int, face_ptr: np.ndarray) -> PairFrames:  # fmt: skip
+        """The pairs of a neighbour list (frames zero until the next step).
+
+        Parameters
+        ----------
+        node_block : (n_nodes,) int64
+            Owner block of each node.
+        contacts : Contacts
+        single_face : (m,) int64
+            See the class.
+        n_blocks : int
+        face_ptr : (n_blocks + 1,) int64
+            Faces of each block (CSR).
+        """
+        key = node_block[contacts.node] * n_blocks + contacts.block
+        keys, entry = np.unique(key, return_inverse=True)
+        a, b = keys // n_blocks, keys % n_blocks
+        count = np.diff(face_ptr)[b]
+        p, pf = len(keys), int(count.sum())
+        return cls(
+            entry.astype(np.int64).reshape(-1), single_face, a.astype(np.int64),
+            b.astype(np.int64),
+            np.concatenate([[0], np.cumsum(count)]).astype(np.int64),
+            np.zeros((p, 3)), np.zeros((p, 3)), np.zeros((p, 3)), np.zeros((p, 3, 3)),
+            np.zeros((p, 3)), np.zeros((pf, 3)), np.zeros((pf, 3)), np.zeros(pf),
+        )  # fmt: skip
+
+
 class Scratch(NamedTuple):
     """Work arrays of a step (overwritten every step; not part of the state).
 
@@ -195,7 +277,8 @@ class Scratch(NamedTuple):
     force, torque : (n, 3) float64
         Contact force [N] and moment about the centroid [N m] on each block.
     out_force, out_point : (m, 3) float64
-        Force of each entry on its node's block [N] and its point [m].
+        Force of each entry on its node's block [N] and its point [m] (written only when the
+        contact kernel is asked to record them).
     out_depth : (m,) float64
         Penetration of each entry [m] (negative: separation).
     skip_gap, skip_drift : (m,) float64
@@ -219,10 +302,11 @@ class Scratch(NamedTuple):
     @classmethod
     def empty(cls, n_blocks: int, n_entries: int) -> Scratch:
         """Zeros: every entry is evaluated at the next step."""
+        m = n_entries
         return cls(
             np.zeros((n_blocks, 3, 3)), np.zeros((n_blocks, 3)), np.zeros((n_blocks, 3)),
-            np.zeros((n_entries, 3)), np.zeros((n_entries, 3)), np.zeros(n_entries),
-            np.zeros(n_entries), np.zeros(n_entries), np.zeros(n_blocks),
+            np.zeros((m, 3)), np.zeros((m, 3)), np.zeros(m), np.zeros(m), np.zeros(m),
+            np.zeros(n_blocks),
         )  # fmt: skip
 
 

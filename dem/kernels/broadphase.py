@@ -187,3 +187,65 @@ def needs_rebuild(pos, quat, pos_build, quat_build, radius, margin):
         if block_drift_one(pos, quat, pos_build, quat_build, radius, i) > 0.5 * margin:
             return True
     return False
+
+
+FACE_GAP_MARGINS = 3.0
+"""A face whose plane distance is this many margins below the nearest plane's at the build
+cannot become the nearest before the next rebuild (see :func:`single_faces`)."""
+
+
+@njit(cache=True)
+def single_faces(nodes, entry_node, entry_block, pos_build, rot_build, bodies, shapes, margin,
+                 out):  # fmt: skip
+    """The one face of the neighbour that can be a node's nearest plane until the next rebuild.
+
+    Until the list is rebuilt every block moves less than ``margin / 2`` (any point within its
+    bounding radius, :func:`needs_rebuild`), so an entry's node moves less than ``1.5 margin``
+    in its neighbour's reference frame (the neighbour's material point under the node is
+    within ``radius + margin`` of its centroid) and each plane distance changes by less than
+    that. A face whose distance at the build is more than ``FACE_GAP_MARGINS * margin`` below
+    the largest can then never be the largest: when every face but one is that far below,
+    the convex signed distance is that one plane's distance, exactly, for the whole period.
+
+    Parameters
+    ----------
+    nodes : Nodes
+    entry_node, entry_block : (m,) int64
+        The entries.
+    pos_build : (n_blocks, 3) float64
+        Centroids at the build [m].
+    rot_build : (n_blocks, 3, 3) float64
+        Rotations at the build.
+    bodies, shapes : Bodies, Shapes
+    margin : float
+        [m].
+    out : (m,) int64
+        Written: the face's position among the neighbour's faces (0 for its first face), or
+        -1 when several faces are candidates.
+    """
+    face_ptr, face_normal, face_offset = shapes.face_ptr, shapes.face_normal, shapes.face_offset
+    ref_centroid = bodies.ref_centroid
+    gap = FACE_GAP_MARGINS * margin
+    for e in range(entry_node.shape[0]):
+        b = entry_block[e]
+        x0, x1, x2 = _node_world(entry_node[e], nodes.block, nodes.r0, pos_build, rot_build)
+        dx = x0 - pos_build[b, 0]
+        dy = x1 - pos_build[b, 1]
+        dz = x2 - pos_build[b, 2]
+        rb = rot_build[b]
+        X0 = rb[0, 0] * dx + rb[1, 0] * dy + rb[2, 0] * dz + ref_centroid[b, 0]
+        X1 = rb[0, 1] * dx + rb[1, 1] * dy + rb[2, 1] * dz + ref_centroid[b, 1]
+        X2 = rb[0, 2] * dx + rb[1, 2] * dy + rb[2, 2] * dz + ref_centroid[b, 2]
+        best, f = convex_sdf_one(X0, X1, X2, face_normal, face_offset, face_ptr[b],
+                                 face_ptr[b + 1])  # fmt: skip
+        out[e] = f - face_ptr[b]
+        for g in range(face_ptr[b], face_ptr[b + 1]):
+            dist = (
+                face_normal[g, 0] * X0
+                + face_normal[g, 1] * X1
+                + face_normal[g, 2] * X2
+                - face_offset[g]
+            )
+            if g != f and dist >= best - gap:
+                out[e] = -1
+                break

@@ -33,8 +33,9 @@ from dem.kernels.signed_distance import convex_sdf_one, level_set_sdf_one
 
 MU_RULE_MEAN = 0
 MU_RULE_MIN = 1
-ENTRY_CHUNK = 512
-"""Entries per parallel chunk."""
+ENTRY_CHUNK = 2048
+"""Entries per chunk of the entry loop (serial or parallel), up to ``MAX_CHUNKS`` chunks."""
+MAX_CHUNKS = 64
 
 
 @njit(cache=True)
@@ -84,15 +85,15 @@ def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, bet
     t1 = sigma * n1
     t2 = sigma * n2
     if k_t > 0.0:
-        old = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+        old2 = s0 * s0 + s1 * s1 + s2 * s2
         sn = s0 * n0 + s1 * n1 + s2 * n2
         s0 -= sn * n0
         s1 -= sn * n1
         s2 -= sn * n2
-        new = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
-        if new > 0.0:
+        new2 = s0 * s0 + s1 * s1 + s2 * s2
+        if new2 > 0.0 and sn != 0.0:
             # rotate with the contact frame: keep the length of the history
-            scale = old / new
+            scale = math.sqrt(old2 / new2)
             s0 *= scale
             s1 *= scale
             s2 *= scale
@@ -100,9 +101,9 @@ def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, bet
         s1 += (vr1 - vn * n1) * dt
         s2 += (vr2 - vn * n2) * dt
         cap = mu * sigma
-        trial = k_t * math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
-        if trial > cap:
-            scale = cap / trial
+        trial2 = k_t * k_t * (s0 * s0 + s1 * s1 + s2 * s2)
+        if trial2 > cap * cap:
+            scale = cap / math.sqrt(trial2)
             s0 *= scale
             s1 *= scale
             s2 *= scale
@@ -117,11 +118,67 @@ def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, bet
 
 
 @njit(cache=True)
-def contact_entries(
-    e_begin, e_end, nodes, contacts, motion, bodies, shapes, law, dt, scratch, force, torque
-):
-    """Forces of entries ``e_begin:e_end``: updates their shear, writes their output rows and
-    adds their wrenches to ``force`` and ``torque``.
+def pair_frames(motion, rot, bodies, shapes, pairs):
+    """Write each pair's relative frame (see :class:`dem.explicit.state.PairFrames`).
+
+    Parameters
+    ----------
+    motion : Motion
+        Poses and velocities.
+    rot : (n_blocks, 3, 3) float64
+        Rotations of the current poses.
+    bodies : Bodies
+        ``ref_centroid`` [m].
+    shapes : Shapes
+        Reference-frame face planes (CSR by block).
+    pairs : PairFrames
+        ``a``, ``b``, ``face_ptr`` (input); the other arrays are written.
+    """
+    pos, vel, omega = motion.pos, motion.vel, motion.omega
+    ref_centroid = bodies.ref_centroid
+    face_ptr, face_normal, face_offset = shapes.face_ptr, shapes.face_normal, shapes.face_offset
+    for q in range(pairs.a.shape[0]):
+        a = pairs.a[q]
+        b = pairs.b[q]
+        arm = pairs.arm[q]
+        for j in range(3):
+            arm[j] = pos[a, j] - pos[b, j]
+            pairs.omega[q, j] = omega[a, j] - omega[b, j]
+        w = omega[b]
+        pairs.vel[q, 0] = vel[a, 0] - vel[b, 0] - (w[1] * arm[2] - w[2] * arm[1])
+        pairs.vel[q, 1] = vel[a, 1] - vel[b, 1] - (w[2] * arm[0] - w[0] * arm[2])
+        pairs.vel[q, 2] = vel[a, 2] - vel[b, 2] - (w[0] * arm[1] - w[1] * arm[0])
+        for i in range(3):
+            pairs.shift[q, i] = ref_centroid[b, i]
+            for j in range(3):
+                pairs.shift[q, i] += rot[b, j, i] * arm[j]
+                pairs.to_b[q, i, j] = (
+                    rot[b, 0, i] * rot[a, 0, j]
+                    + rot[b, 1, i] * rot[a, 1, j]
+                    + rot[b, 2, i] * rot[a, 2, j]
+                )
+        row = pairs.face_ptr[q]
+        for g in range(face_ptr[b], face_ptr[b + 1]):
+            ng = face_normal[g]
+            d = face_offset[g]
+            for i in range(3):
+                u = rot[b, i, 0] * ng[0] + rot[b, i, 1] * ng[1] + rot[b, i, 2] * ng[2]
+                pairs.face_u[row, i] = u
+                d -= u * arm[i] + ng[i] * ref_centroid[b, i]
+                pairs.face_v[row, i] = (
+                    pairs.to_b[q, 0, i] * ng[0]
+                    + pairs.to_b[q, 1, i] * ng[1]
+                    + pairs.to_b[q, 2, i] * ng[2]
+                )
+            pairs.face_d[row] = d
+            row += 1
+
+
+@njit(cache=True)
+def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law, dt, scratch,
+                    pairs, record, sums):  # fmt: skip
+    """Forces of entries ``e_begin:e_end``: updates their shear and adds their wrenches to the
+    sums of their pairs.
 
     Parameters
     ----------
@@ -133,11 +190,11 @@ def contact_entries(
         The entries (``node``, ``block``, ``weight``) and their shear history ``shear``
         [m] (updated in place).
     motion : Motion
-        Block poses and velocities (``pos``, ``vel``, ``omega``; world frame).
+        Block poses (``pos``, for the recorded points).
     bodies : Bodies
-        ``ref_centroid`` [m] and ``block_mu`` (the pair's coefficient by ``law.mu_rule``).
+        ``block_mu`` (the pair's coefficient by ``law.mu_rule``).
     shapes : Shapes
-        Face planes (CSR by block) or level-set grids (``use_level_set``).
+        Level-set grids (``use_level_set``; the face planes come through ``pairs``).
     law : Law
         ``k_n``, ``k_t`` [Pa/m], ``beta`` [s], ``mu_rule`` and ``compat_cos``: with face
         planes, a node takes its normal from the nearest plane among ``b``'s faces whose
@@ -155,13 +212,18 @@ def contact_entries(
     dt : float
         Time step [s].
     scratch : Scratch
-        ``rot`` (n, 3, 3) rotations of the current poses (input); ``out_force``,
-        ``out_point`` (m, 3): force on the node's block [N] and its point [m];
-        ``out_depth`` (m,): penetration ``d`` [m] (negative: separation, lower bound);
-        ``skip_gap``, ``skip_drift`` (m,) and ``drift`` (n,) [m]: see Notes.
-    force, torque : (n, 3) float64
-        Accumulated in place: each entry's force on its node's block [N] and its negative on
-        the neighbour, with their moments about the centroids [N m], in entry order.
+        ``rot`` (n, 3, 3) rotations of the current poses (input); ``out_depth`` (m,):
+        penetration ``d`` [m] (negative: separation, lower bound); ``skip_gap``,
+        ``skip_drift`` (m,) and ``drift`` (n,) [m]: see Notes.
+    pairs : PairFrames
+        The entries' block pairs with the frames of :func:`pair_frames`.
+    record : bool
+        Also write ``scratch.out_force`` (force on the node's block [N]) and
+        ``scratch.out_point`` (the node [m]) of every evaluated entry.
+    sums : (p, 6) float64
+        Accumulated in place, in entry order: per pair, the forces of its entries on ``a``
+        [N] and their moments about ``c_a`` [N m] (:func:`pair_wrenches` turns them into
+        block wrenches).
 
     Notes
     -----
@@ -177,170 +239,211 @@ def contact_entries(
     of evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated
     values). Level sets are not a distance bound: no skipping there.
     """
-    pair_node, pair_block, pair_weight = contacts.node, contacts.block, contacts.weight
-    pair_shear = contacts.shear
-    node_block, node_r0, node_n0, node_area = nodes.block, nodes.r0, nodes.n0, nodes.area
-    pos, vel, omega, rot = motion.pos, motion.vel, motion.omega, scratch.rot
-    ref_centroid, block_mu = bodies.ref_centroid, bodies.block_mu
-    face_ptr, face_normal, face_offset = shapes.face_ptr, shapes.face_normal, shapes.face_offset
-    ls_origin, ls_spacing, ls_dims = shapes.ls_origin, shapes.ls_spacing, shapes.ls_dims
-    ls_ptr, ls_values, use_level_set = shapes.ls_ptr, shapes.ls_values, shapes.use_level_set
+    pair_node, pair_weight, pair_shear = contacts.node, contacts.weight, contacts.shear
+    node_r0, node_n0, node_area = nodes.r0, nodes.n0, nodes.area
+    rot, block_mu = scratch.rot, bodies.block_mu
+    entry_pair, pair_a, pair_b, face_ptr = pairs.entry, pairs.a, pairs.b, pairs.face_ptr
+    single_face = pairs.single_face
+    face_v, face_u, face_d = pairs.face_v, pairs.face_u, pairs.face_d
+    rel_vel, rel_omega, to_b, shift = pairs.vel, pairs.omega, pairs.to_b, pairs.shift
+    use_level_set = shapes.use_level_set
+    out_force, out_point, pos = scratch.out_force, scratch.out_point, motion.pos
     k_n, k_t, beta, mu_rule = law.k_n, law.k_t, law.beta, law.mu_rule
     compat_cos, margin = law.compat_cos, law.margin
-    out_force, out_point, out_depth = scratch.out_force, scratch.out_point, scratch.out_depth
-    skip_gap, skip_drift, drift = scratch.skip_gap, scratch.skip_drift, scratch.drift
+    out_depth, skip_gap, skip_drift, drift = (
+        scratch.out_depth, scratch.skip_gap, scratch.skip_drift, scratch.drift
+    )  # fmt: skip
     for e in range(e_begin, e_end):
-        i = pair_node[e]
-        b = pair_block[e]
-        a = node_block[i]
+        q = entry_pair[e]
+        a = pair_a[q]
+        b = pair_b[q]
         gap = skip_gap[e]
         if gap > 0.0 and drift[a] + drift[b] - skip_drift[e] < gap:
             continue  # still separated: its force and shear history are zero (see Notes)
+        i = pair_node[e]
         r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
-        rx = rot[a, 0, 0] * r0x + rot[a, 0, 1] * r0y + rot[a, 0, 2] * r0z
-        ry = rot[a, 1, 0] * r0x + rot[a, 1, 1] * r0y + rot[a, 1, 2] * r0z
-        rz = rot[a, 2, 0] * r0x + rot[a, 2, 1] * r0y + rot[a, 2, 2] * r0z
-        x0 = pos[a, 0] + rx
-        x1 = pos[a, 1] + ry
-        x2 = pos[a, 2] + rz
-        out_point[e, 0] = x0
-        out_point[e, 1] = x1
-        out_point[e, 2] = x2
-        dx = x0 - pos[b, 0]
-        dy = x1 - pos[b, 1]
-        dz = x2 - pos[b, 2]
-        # reference frame of b: X = R_b^T (x - c_b) + C0_b
-        X0 = rot[b, 0, 0] * dx + rot[b, 1, 0] * dy + rot[b, 2, 0] * dz + ref_centroid[b, 0]
-        X1 = rot[b, 0, 1] * dx + rot[b, 1, 1] * dy + rot[b, 2, 1] * dz + ref_centroid[b, 1]
-        X2 = rot[b, 0, 2] * dx + rot[b, 1, 2] * dy + rot[b, 2, 2] * dz + ref_centroid[b, 2]
         if use_level_set:
-            phi, g0, g1, g2 = level_set_sdf_one(
-                X0, X1, X2, ls_origin[b], ls_spacing[b], ls_dims[b], ls_values, ls_ptr[b]
-            )
-        elif compat_cos <= 1.0:
-            # normal-compatible face: among b's faces facing the node's own face, the nearest
-            # plane gives penetration and normal; b's other faces only bound the contact
-            # laterally, continuously (a node on a shared edge keeps its full depth)
-            m0, m1, m2 = node_n0[i, 0], node_n0[i, 1], node_n0[i, 2]
-            w0 = rot[a, 0, 0] * m0 + rot[a, 0, 1] * m1 + rot[a, 0, 2] * m2
-            w1 = rot[a, 1, 0] * m0 + rot[a, 1, 1] * m1 + rot[a, 1, 2] * m2
-            w2 = rot[a, 2, 0] * m0 + rot[a, 2, 1] * m1 + rot[a, 2, 2] * m2
-            q0 = rot[b, 0, 0] * w0 + rot[b, 1, 0] * w1 + rot[b, 2, 0] * w2
-            q1 = rot[b, 0, 1] * w0 + rot[b, 1, 1] * w1 + rot[b, 2, 1] * w2
-            q2 = rot[b, 0, 2] * w0 + rot[b, 1, 2] * w1 + rot[b, 2, 2] * w2
-            best_c = -math.inf
-            best_o = -math.inf
-            f_c = -1
-            f_o = face_ptr[b]
-            for g in range(face_ptr[b], face_ptr[b + 1]):
-                dist = (
-                    face_normal[g, 0] * X0
-                    + face_normal[g, 1] * X1
-                    + face_normal[g, 2] * X2
-                    - face_offset[g]
-                )
-                c = face_normal[g, 0] * q0 + face_normal[g, 1] * q1 + face_normal[g, 2] * q2
-                if c <= -compat_cos:
-                    if dist > best_c:
-                        best_c = dist
-                        f_c = g
-                elif dist > best_o:
-                    best_o = dist
-                    f_o = g
-            # contact in either case needs best_c + max(best_o, 0) < 0, a 2-Lipschitz
-            # function of the node's position: half of it bounds the motion to contact
-            bound = 0.5 * (best_c + max(best_o, 0.0)) if f_c >= 0 else best_o
-            if best_c >= -margin:
-                phi, f = best_c + max(best_o, 0.0), f_c
-            elif best_c > best_o:
-                phi, f = best_c, f_c
-            else:
-                phi, f = best_o, f_o
-            g0, g1, g2 = face_normal[f, 0], face_normal[f, 1], face_normal[f, 2]
+            phi, n0, n1, n2 = _level_set_plane(r0x, r0y, r0z, q, b, to_b, shift, rot, shapes)
+            bound = 0.0
         else:
-            phi, f = convex_sdf_one(
-                X0, X1, X2, face_normal, face_offset, face_ptr[b], face_ptr[b + 1]
-            )
-            bound = phi
-            g0, g1, g2 = face_normal[f, 0], face_normal[f, 1], face_normal[f, 2]
+            if compat_cos <= 1.0:
+                phi, f, bound = _compatible_plane(
+                    r0x, r0y, r0z, node_n0[i, 0], node_n0[i, 1], node_n0[i, 2], face_v, face_d,
+                    face_ptr[q], face_ptr[q + 1], compat_cos, margin,
+                )  # fmt: skip
+            elif single_face[e] >= 0:
+                f = face_ptr[q] + single_face[e]
+                phi = face_v[f, 0] * r0x + face_v[f, 1] * r0y + face_v[f, 2] * r0z - face_d[f]
+                bound = phi
+            else:
+                phi, f = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, face_ptr[q],
+                                        face_ptr[q + 1])  # fmt: skip
+                bound = phi
+            n0, n1, n2 = face_u[f, 0], face_u[f, 1], face_u[f, 2]
         out_depth[e] = -phi
-        if phi >= 0.0 or pair_weight[e] == 0.0:
+        touching = phi < 0.0 and pair_weight[e] != 0.0
+        if not touching:
             pair_shear[e, 0] = 0.0
             pair_shear[e, 1] = 0.0
             pair_shear[e, 2] = 0.0
-            out_force[e, 0] = 0.0
-            out_force[e, 1] = 0.0
-            out_force[e, 2] = 0.0
             if not use_level_set and bound > 0.0:
                 skip_gap[e] = bound
                 skip_drift[e] = drift[a] + drift[b]
-            continue
-        skip_gap[e] = 0.0
-        n0 = rot[b, 0, 0] * g0 + rot[b, 0, 1] * g1 + rot[b, 0, 2] * g2
-        n1 = rot[b, 1, 0] * g0 + rot[b, 1, 1] * g1 + rot[b, 1, 2] * g2
-        n2 = rot[b, 2, 0] * g0 + rot[b, 2, 1] * g1 + rot[b, 2, 2] * g2
-        # relative velocity of a's material point against b's material point at x
-        vr0 = vel[a, 0] + omega[a, 1] * rz - omega[a, 2] * ry
-        vr1 = vel[a, 1] + omega[a, 2] * rx - omega[a, 0] * rz
-        vr2 = vel[a, 2] + omega[a, 0] * ry - omega[a, 1] * rx
-        vr0 -= vel[b, 0] + omega[b, 1] * dz - omega[b, 2] * dy
-        vr1 -= vel[b, 1] + omega[b, 2] * dx - omega[b, 0] * dz
-        vr2 -= vel[b, 2] + omega[b, 0] * dy - omega[b, 1] * dx
-        mu = pair_mu(block_mu[a], block_mu[b], mu_rule)
-        t0, t1, t2, s0, s1, s2 = traction_one(
-            -phi, n0, n1, n2, vr0, vr1, vr2, pair_shear[e, 0], pair_shear[e, 1],
-            pair_shear[e, 2], k_n, k_t, mu, beta, dt,
-        )  # fmt: skip
-        pair_shear[e, 0] = s0
-        pair_shear[e, 1] = s1
-        pair_shear[e, 2] = s2
-        area = node_area[i] * pair_weight[e]
-        f0, f1, f2 = t0 * area, t1 * area, t2 * area
-        out_force[e, 0] = f0
-        out_force[e, 1] = f1
-        out_force[e, 2] = f2
-        add_wrench(force, torque, a, x0 - pos[a, 0], x1 - pos[a, 1], x2 - pos[a, 2], f0, f1, f2)
-        add_wrench(force, torque, b, dx, dy, dz, -f0, -f1, -f2)
+            if not record:
+                continue
+        else:
+            skip_gap[e] = 0.0
+        rx = rot[a, 0, 0] * r0x + rot[a, 0, 1] * r0y + rot[a, 0, 2] * r0z
+        ry = rot[a, 1, 0] * r0x + rot[a, 1, 1] * r0y + rot[a, 1, 2] * r0z
+        rz = rot[a, 2, 0] * r0x + rot[a, 2, 1] * r0y + rot[a, 2, 2] * r0z
+        f0 = f1 = f2 = 0.0
+        if touching:
+            # relative velocity of a's material point against b's material point at x
+            vr0 = rel_vel[q, 0] + rel_omega[q, 1] * rz - rel_omega[q, 2] * ry
+            vr1 = rel_vel[q, 1] + rel_omega[q, 2] * rx - rel_omega[q, 0] * rz
+            vr2 = rel_vel[q, 2] + rel_omega[q, 0] * ry - rel_omega[q, 1] * rx
+            mu = pair_mu(block_mu[a], block_mu[b], mu_rule)
+            t0, t1, t2, s0, s1, s2 = traction_one(
+                -phi, n0, n1, n2, vr0, vr1, vr2, pair_shear[e, 0], pair_shear[e, 1],
+                pair_shear[e, 2], k_n, k_t, mu, beta, dt,
+            )  # fmt: skip
+            pair_shear[e, 0] = s0
+            pair_shear[e, 1] = s1
+            pair_shear[e, 2] = s2
+            area = node_area[i] * pair_weight[e]
+            f0, f1, f2 = t0 * area, t1 * area, t2 * area
+            sums[q, 0] += f0
+            sums[q, 1] += f1
+            sums[q, 2] += f2
+            sums[q, 3] += ry * f2 - rz * f1
+            sums[q, 4] += rz * f0 - rx * f2
+            sums[q, 5] += rx * f1 - ry * f0
+        if record:
+            out_force[e, 0] = f0
+            out_force[e, 1] = f1
+            out_force[e, 2] = f2
+            out_point[e, 0] = pos[a, 0] + rx
+            out_point[e, 1] = pos[a, 1] + ry
+            out_point[e, 2] = pos[a, 2] + rz
 
 
 @njit(cache=True)
-def add_wrench(force, torque, k, r0, r1, r2, f0, f1, f2):
-    """``force[k] += f``, ``torque[k] += r x f`` (``r`` from block ``k``'s centroid)."""
-    force[k, 0] += f0
-    force[k, 1] += f1
-    force[k, 2] += f2
-    torque[k, 0] += r1 * f2 - r2 * f1
-    torque[k, 1] += r2 * f0 - r0 * f2
-    torque[k, 2] += r0 * f1 - r1 * f0
+def _level_set_plane(r0x, r0y, r0z, q, b, to_b, shift, rot, shapes):
+    """Level-set value and world normal of neighbour ``b`` at a node of pair ``q``."""
+    phi, g0, g1, g2 = level_set_sdf_one(
+        to_b[q, 0, 0] * r0x + to_b[q, 0, 1] * r0y + to_b[q, 0, 2] * r0z + shift[q, 0],
+        to_b[q, 1, 0] * r0x + to_b[q, 1, 1] * r0y + to_b[q, 1, 2] * r0z + shift[q, 1],
+        to_b[q, 2, 0] * r0x + to_b[q, 2, 1] * r0y + to_b[q, 2, 2] * r0z + shift[q, 2],
+        shapes.ls_origin[b], shapes.ls_spacing[b], shapes.ls_dims[b], shapes.ls_values,
+        shapes.ls_ptr[b],
+    )  # fmt: skip
+    n0 = rot[b, 0, 0] * g0 + rot[b, 0, 1] * g1 + rot[b, 0, 2] * g2
+    n1 = rot[b, 1, 0] * g0 + rot[b, 1, 1] * g1 + rot[b, 1, 2] * g2
+    n2 = rot[b, 2, 0] * g0 + rot[b, 2, 1] * g1 + rot[b, 2, 2] * g2
+    return phi, n0, n1, n2
 
 
 @njit(cache=True)
-def node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch):
-    """Every entry, serially, adding to ``scratch.force`` and ``scratch.torque`` (arguments as
-    :func:`contact_entries`)."""
-    contact_entries(0, contacts.node.shape[0], nodes, contacts, motion, bodies, shapes, law, dt,
-                    scratch, scratch.force, scratch.torque)  # fmt: skip
+def _compatible_plane(r0x, r0y, r0z, m0, m1, m2, face_v, face_d, f_begin, f_end, compat_cos,
+                      margin):  # fmt: skip
+    """Plane distance, face row and skip bound of a node against the normal-compatible plane
+    (see :func:`contact_entries`); rows ``f_begin:f_end`` of the pair's faces, ``m`` the
+    node's face normal in its block's reference frame (the node ``r0`` there too)."""
+    best_c = -math.inf
+    best_o = -math.inf
+    f_c = -1
+    f_o = f_begin
+    for g in range(f_begin, f_end):
+        dist = face_v[g, 0] * r0x + face_v[g, 1] * r0y + face_v[g, 2] * r0z - face_d[g]
+        c = face_v[g, 0] * m0 + face_v[g, 1] * m1 + face_v[g, 2] * m2
+        if c <= -compat_cos:
+            if dist > best_c:
+                best_c = dist
+                f_c = g
+        elif dist > best_o:
+            best_o = dist
+            f_o = g
+    # contact in either case needs best_c + max(best_o, 0) < 0, a 2-Lipschitz function of the
+    # node's position: half of it bounds the motion to contact
+    bound = 0.5 * (best_c + max(best_o, 0.0)) if f_c >= 0 else best_o
+    if best_c >= -margin:
+        return best_c + max(best_o, 0.0), f_c, bound
+    if best_c > best_o:
+        return best_c, f_c, bound
+    return best_o, f_o, bound
+
+
+@njit(cache=True)
+def pair_wrenches(pairs, sums, force, torque):
+    """Add the pairs' sums (:func:`contact_entries`) to the blocks: ``F`` and ``M`` about
+    ``c_a`` on ``a``, ``-F`` and ``-(M + arm x F)`` about ``c_b`` on ``b``."""
+    for q in range(pairs.a.shape[0]):
+        a = pairs.a[q]
+        b = pairs.b[q]
+        arm = pairs.arm[q]
+        f0, f1, f2 = sums[q, 0], sums[q, 1], sums[q, 2]
+        force[a, 0] += f0
+        force[a, 1] += f1
+        force[a, 2] += f2
+        torque[a, 0] += sums[q, 3]
+        torque[a, 1] += sums[q, 4]
+        torque[a, 2] += sums[q, 5]
+        force[b, 0] -= f0
+        force[b, 1] -= f1
+        force[b, 2] -= f2
+        torque[b, 0] -= sums[q, 3] + arm[1] * f2 - arm[2] * f1
+        torque[b, 1] -= sums[q, 4] + arm[2] * f0 - arm[0] * f2
+        torque[b, 2] -= sums[q, 5] + arm[0] * f1 - arm[1] * f0
+
+
+@njit(cache=True)
+def _chunks(motion, bodies, shapes, scratch, pairs, m):
+    """Write the pairs' frames; the chunks of the ``m`` entries (count and size, a function of
+    ``m`` only, so that the serial and the parallel loops add in the same order and agree bit
+    for bit) and their zeroed sums (n_chunks, p, 6)."""
+    pair_frames(motion, scratch.rot, bodies, shapes, pairs)
+    n_chunks = max(1, min(MAX_CHUNKS, (m + ENTRY_CHUNK - 1) // ENTRY_CHUNK))
+    return n_chunks, (m + n_chunks - 1) // n_chunks, np.zeros((n_chunks, pairs.a.shape[0], 6))
+
+
+@njit(cache=True)
+def node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record):
+    """Every entry, adding to ``scratch.force`` and ``scratch.torque`` (arguments as
+    :func:`contact_entries`; ``scratch.rot`` holds the current rotations)."""
+    n_chunks, size, sums = _chunks(motion, bodies, shapes, scratch, pairs, contacts.node.size)
+    for c in range(n_chunks):
+        _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
+               sums)  # fmt: skip
+    _add_chunks(sums, pairs, scratch)
 
 
 @njit(cache=True, parallel=True)
-def node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch):
-    """Every entry, in parallel chunks (``prange``): each chunk writes its own rows and sums its
-    wrenches in its own buffer; the buffers are added in chunk order (deterministic)."""
-    m = contacts.node.shape[0]
-    n_blocks = scratch.force.shape[0]
-    n_chunks = (m + ENTRY_CHUNK - 1) // ENTRY_CHUNK
-    chunk_force = np.zeros((n_chunks, n_blocks, 3))
-    chunk_torque = np.zeros((n_chunks, n_blocks, 3))
+def node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs,
+                           record):  # fmt: skip
+    """:func:`node_contacts` with the chunks in a ``prange`` loop: each chunk sums into its own
+    buffer, and the buffers are added in chunk order (same result, bit for bit)."""
+    n_chunks, size, sums = _chunks(motion, bodies, shapes, scratch, pairs, contacts.node.size)
     for c in prange(n_chunks):
-        contact_entries(
-            c * ENTRY_CHUNK, min(m, (c + 1) * ENTRY_CHUNK), nodes, contacts, motion, bodies,
-            shapes, law, dt, scratch, chunk_force[c], chunk_torque[c],
-        )  # fmt: skip
-    for c in range(n_chunks):
-        for k in range(n_blocks):
-            for j in range(3):
-                scratch.force[k, j] += chunk_force[c, k, j]
-                scratch.torque[k, j] += chunk_torque[c, k, j]
+        _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
+               sums)  # fmt: skip
+    _add_chunks(sums, pairs, scratch)
+
+
+@njit(cache=True)
+def _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
+           sums):  # fmt: skip
+    """Entries of chunk ``c`` (of ``size`` entries) into ``sums[c]``."""
+    m = contacts.node.size
+    contact_entries(c * size, min(m, (c + 1) * size), nodes, contacts, motion, bodies, shapes,
+                    law, dt, scratch, pairs, record, sums[c])  # fmt: skip
+
+
+@njit(cache=True)
+def _add_chunks(sums, pairs, scratch):
+    """Chunk sums, in chunk order, into the blocks' wrenches."""
+    for c in range(1, sums.shape[0]):
+        sums[0] += sums[c]
+    pair_wrenches(pairs, sums[0], scratch.force, scratch.torque)
 
 
 @njit(cache=True)
@@ -377,10 +480,14 @@ def sphere_contacts(indenter, motion, rot, centre, beta, force, torque):
     p_total = 0.0
     for e in range(ind_block.shape[0]):
         a = ind_block[e]
-        r = rot[a] @ ind_r0[e]
-        x0 = pos[a, 0] + r[0]
-        x1 = pos[a, 1] + r[1]
-        x2 = pos[a, 2] + r[2]
+        # no temporaries in this loop (an array per node and step was half the step's cost)
+        r0x, r0y, r0z = ind_r0[e, 0], ind_r0[e, 1], ind_r0[e, 2]
+        rx = rot[a, 0, 0] * r0x + rot[a, 0, 1] * r0y + rot[a, 0, 2] * r0z
+        ry = rot[a, 1, 0] * r0x + rot[a, 1, 1] * r0y + rot[a, 1, 2] * r0z
+        rz = rot[a, 2, 0] * r0x + rot[a, 2, 1] * r0y + rot[a, 2, 2] * r0z
+        x0 = pos[a, 0] + rx
+        x1 = pos[a, 1] + ry
+        x2 = pos[a, 2] + rz
         d0 = x0 - centre[0]
         d1 = x1 - centre[1]
         d2 = x2 - centre[2]
@@ -392,9 +499,9 @@ def sphere_contacts(indenter, motion, rot, centre, beta, force, torque):
             out_force[e, 2] = 0.0
             continue
         n0, n1, n2 = d0 / dist, d1 / dist, d2 / dist
-        va0 = vel[a, 0] + omega[a, 1] * r[2] - omega[a, 2] * r[1] - velocity[0]
-        va1 = vel[a, 1] + omega[a, 2] * r[0] - omega[a, 0] * r[2] - velocity[1]
-        va2 = vel[a, 2] + omega[a, 0] * r[1] - omega[a, 1] * r[0] - velocity[2]
+        va0 = vel[a, 0] + omega[a, 1] * rz - omega[a, 2] * ry - velocity[0]
+        va1 = vel[a, 1] + omega[a, 2] * rx - omega[a, 0] * rz - velocity[1]
+        va2 = vel[a, 2] + omega[a, 0] * ry - omega[a, 1] * rx - velocity[2]
         vn = va0 * n0 + va1 * n1 + va2 * n2
         sigma = k_n * (depth - beta * vn)
         if sigma < 0.0:
@@ -408,9 +515,9 @@ def sphere_contacts(indenter, motion, rot, centre, beta, force, torque):
         force[a, 0] += f0
         force[a, 1] += f1
         force[a, 2] += f2
-        torque[a, 0] += r[1] * f2 - r[2] * f1
-        torque[a, 1] += r[2] * f0 - r[0] * f2
-        torque[a, 2] += r[0] * f1 - r[1] * f0
+        torque[a, 0] += ry * f2 - rz * f1
+        torque[a, 1] += rz * f0 - rx * f2
+        torque[a, 2] += rx * f1 - ry * f0
         p_total -= f2
     return p_total
 

@@ -163,7 +163,7 @@ def advance_block_one(i, dt, alpha, local_damping, bodies, motion, scratch):
 @njit(cache=True)
 def run_steps(
     n_steps, dt, t, alpha, local_damping, parallel, bodies, shapes, nodes, law, motion, contacts,
-    scratch, indenter, acc,
+    scratch, pairs, indenter, acc,
 ):  # fmt: skip
     """Run up to ``n_steps`` steps; stop early when the neighbour list must be rebuilt.
 
@@ -186,6 +186,8 @@ def run_steps(
         The state, advanced in place.
     scratch : Scratch
         Work arrays.
+    pairs : PairFrames
+        Block pairs of the list (their frames are work arrays too).
     indenter : Indenter
         When ``active``, its centre is ``centre0 + velocity (t - t0)`` [m].
     acc : (3,) float64
@@ -210,9 +212,11 @@ def run_steps(
         scratch.force[:, :] = 0.0
         scratch.torque[:, :] = 0.0
         if parallel:
-            node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch)
+            node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch,
+                                   pairs, False)  # fmt: skip
         else:
-            node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch)
+            node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs,
+                          False)  # fmt: skip
         if indenter.active:
             for k in range(3):
                 centre[k] = indenter.centre0[k] + indenter.velocity[k] * (t - indenter.t0)

@@ -9,6 +9,7 @@ from dem.explicit import (
     curve_summary,
     simulate_indentation,
 )
+from dem.kernels.contact_force import ENTRY_CHUNK
 from dem.kernels.integrate import quat_to_rot
 from dem.scenes.tis_panel import tis_panel
 from dem.tis_stiffness import tis_panel_k_def
@@ -19,7 +20,7 @@ FAST = IndentationSettings(speed=50 * MM, max_deflection=0.15 * MM, record_inter
 
 def run(k_n, **kw):
     scene = tis_panel(3, 2.5)
-    settings = ExplicitSettings(k_n=k_n, node_spacing=1.5 * MM, **kw)
+    settings = ExplicitSettings(k_n=k_n, **{"node_spacing": 1.5 * MM, **kw})
     return simulate_indentation(scene, settings, FAST)
 
 
@@ -122,9 +123,11 @@ def test_run_stops_once_block_is_out():
 
 
 def test_parallel_node_loop_matches_serial():
-    """The parallel node loop (chunks summed in their own buffers, then in chunk order) gives
-    the serial curve up to rounding: the sums differ only in their order."""
+    """The parallel node loop gives the serial curve bit for bit: both sum each chunk of entries
+    in its own buffer and add the chunks in chunk order, whatever the number of threads."""
     k = tis_panel_k_def(3)
-    serial = run(k, parallel=False)
-    parallel = run(k, parallel=True)
-    np.testing.assert_allclose(parallel.load, serial.load, rtol=1e-6, atol=1e-9 * serial.peak_load)
+    serial = run(k, parallel=False, node_spacing=0.4 * MM)
+    parallel = run(k, parallel=True, node_spacing=0.4 * MM)
+    assert serial.info["n_nodes"] > 2 * ENTRY_CHUNK  # several chunks
+    np.testing.assert_array_equal(parallel.load, serial.load)
+    np.testing.assert_array_equal(parallel.block_pos, serial.block_pos)

@@ -310,7 +310,9 @@ def _stability_rows(quick: bool, disc: dict, store: dict) -> list[Row]:
     mech = mechanism(flat, scene)
     rows.append(Row(
         f"{n}x{n} theta=0 (no interlock): P_max / P_max(theta=2.5)", flat.peak_load / ref.peak_load,
-        0.0, "no interlock: the central block falls out at near-zero load", flat.info["wall_s"],
+        0.0, "no interlock: the central block falls out at near-zero load while the panel stays "
+        "exactly symmetric (unstable: an indenter 1 nm off the axis, or round-off, lets two "
+        "neighbours slide down with it and jam it, about 220 N)", flat.info["wall_s"],
         _disc_settings(disc, k_def), mech,
     ))  # fmt: skip
     _store_curves(store, f"{n}x{n}_0_perfect", flat, scene)
