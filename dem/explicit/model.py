@@ -39,7 +39,7 @@ from dem.explicit.state import (
     Shapes,
 )
 from dem.explicit.timestep import choose_time_step, highest_frequency
-from dem.explicit.unmodelled import block_hulls, worst_overlap
+from dem.explicit.unmodelled import UnmodelledContactError, block_hulls, worst_overlap
 from dem.kernels.broadphase import build_pairs, carry_history, single_faces
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
@@ -275,7 +275,7 @@ class ExplicitModel:
             self.settings.margin,
         )  # fmt: skip
         if depth > allowed:
-            raise SimulationError(
+            raise UnmodelledContactError(
                 f"blocks {a} and {b} overlap by {depth:.3e} m at t = {self.t:.6e} s (at most "
                 f"{allowed:.3e} m is a contact the model represents): they met where the model "
                 "has no contact nodes (nodes are seeded only on faces that touch at the start), "

@@ -20,11 +20,16 @@ from typing import NamedTuple
 
 import numpy as np
 
+from dem.explicit.settings import SimulationError
 from dem.explicit.state import Bodies, Shapes
 from dem.kernels.overlap import penetration_depths
 
 OVERLAP_LIMIT = 0.1
 """Largest overlap of two blocks with contact entries, times the thinner one's thickness."""
+
+
+class UnmodelledContactError(SimulationError):
+    """Two blocks overlap more than the model represents: they pass through each other."""
 
 
 class Hulls(NamedTuple):
