@@ -38,6 +38,7 @@ from dem.explicit.settings import (
     SimulationError,
 )
 from dem.explicit.stiffness import k_n_from_material, masonry_settings
+from dem.explicit.unmodelled import UnmodelledContactError
 
 __all__ = [
     "ExplicitModel",
@@ -49,6 +50,7 @@ __all__ = [
     "MotionCriteria",
     "RelaxationSettings",
     "SimulationError",
+    "UnmodelledContactError",
     "TiltingTable",
     "curve_summary",
     "export_peak_state",

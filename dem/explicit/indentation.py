@@ -49,6 +49,7 @@ from dem.explicit.settings import (
     RelaxationSettings,
 )
 from dem.explicit.state import ExplicitState
+from dem.explicit.unmodelled import UnmodelledContactError
 from dem.scene import Scene
 from dem.units import MM
 
@@ -125,7 +126,13 @@ def simulate_indentation(
     chunks = 0
     while st.steps < n_steps_total and not st.finished:
         n = min(steps_per_record, n_steps_total - st.steps)
-        acc = model.advance(n, indenter=ind)
+        try:
+            acc = model.advance(n, indenter=ind)
+        except UnmodelledContactError as exc:
+            # the curve up to the last record holds; past it the blocks pass through each other
+            logger.warning("indent %s stopped: %s", scene.name, exc)
+            st.stopped_by = str(exc)
+            break
         p_mean, delta = st.advance(model, n, acc, indentation)
         st.check_stop(p_mean, delta, indentation)
         now = time.perf_counter()
@@ -170,7 +177,7 @@ def _sphere_start(model: ExplicitModel, block: int, indentation: IndentationSett
 
 _RECORDS = ("delta", "load", "time", "kinetic", "elastic", "work_hist", "entries")
 _SCALARS = ("steps", "work", "delta_now", "best_load", "finished", "t0", "relax",
-            "next_snapshot", "below_from")  # fmt: skip
+            "next_snapshot", "below_from", "stopped_by")  # fmt: skip
 
 
 @dataclass
@@ -183,6 +190,7 @@ class _RunState:
     delta_now: float = 0.0
     best_load: float = -math.inf
     finished: bool = False
+    stopped_by: str = ""
     centre0: np.ndarray = field(default_factory=lambda: np.zeros(3))
     t0: float = 0.0
     relax: dict = field(default_factory=dict)
@@ -290,7 +298,8 @@ class _RunState:
             return None
         try:
             model.restore(ExplicitState.from_arrays(arrays, "state."))
-            st = cls(key=key, **{name: meta[name] for name in _SCALARS})
+            st = cls(key=key, **{name: meta[name] for name in _SCALARS if name != "stopped_by"})
+            st.stopped_by = meta.get("stopped_by", "")  # older checkpoints: none
             st.steps = int(st.steps)
             if "peak.t" in arrays:
                 st.peak = ExplicitState.from_arrays(arrays, "peak.")
@@ -365,6 +374,7 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         "indentation": asdict(indentation),
         "relaxation": asdict(relaxation),
         "loaded_block": int(model.indenter_block),
+        "stopped_by": st.stopped_by,
     }
     return IndentationResult(
         delta=delta, load=load, time=np.asarray(st.time), kinetic=np.asarray(st.kinetic),

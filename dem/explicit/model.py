@@ -39,6 +39,7 @@ from dem.explicit.state import (
     Shapes,
 )
 from dem.explicit.timestep import choose_time_step, highest_frequency
+from dem.explicit.unmodelled import UnmodelledContactError, block_hulls, worst_overlap
 from dem.kernels.broadphase import build_pairs, carry_history, single_faces
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
@@ -107,6 +108,7 @@ class ExplicitModel:
         self.inertia_true = asm.inertia.copy()
         self.bodies = _bodies(scene, settings)
         self.shapes = _shapes(asm, settings)
+        self.hulls = block_hulls(asm.blocks, self.bodies.ref_centroid)
         self.indenter_block = indenter_block
         axis_xy = None
         if indenter_block is not None:
@@ -260,6 +262,27 @@ class ExplicitModel:
                                        motion.quat.copy())  # fmt: skip
         self.state.n_rebuilds += 1
         self._new_scratch()
+        self._refuse_unmodelled_contact()
+
+    def _refuse_unmodelled_contact(self) -> None:
+        """Stop when two blocks overlap more than the model represents (:mod:`.unmodelled`)."""
+        motion, contacts = self.state.motion, self.state.contacts
+        rot = np.empty((self.n_blocks, 3, 3))
+        quat_to_rot(motion.quat, rot)
+        entry_pairs = np.column_stack([self.surface.block[contacts.node], contacts.block])
+        a, b, depth, allowed = worst_overlap(
+            self.hulls, self.bodies, self.shapes, motion.pos, rot, entry_pairs,
+            self.settings.margin,
+        )  # fmt: skip
+        if depth > allowed:
+            raise UnmodelledContactError(
+                f"blocks {a} and {b} overlap by {depth:.3e} m at t = {self.t:.6e} s (at most "
+                f"{allowed:.3e} m is a contact the model represents): they met where the model "
+                "has no contact nodes (nodes are seeded only on faces that touch at the start), "
+                "or the contact stiffness k_n is far too low for the load, and they are passing "
+                "through each other. The run stops here: from this point its results would be "
+                "wrong"
+            )
 
     def _new_scratch(self) -> None:
         """Work arrays and block pairs (``scratch``, ``pairs``) for the current neighbour list

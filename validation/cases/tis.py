@@ -164,6 +164,9 @@ def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict)
             "",
             wall,
             settings,
+            # nan when the run stopped before the block was out: blocks passing through
+            # each other where no contact node was seeded (dem.explicit.unmodelled)
+            {"stopped_by": res.info.get("stopped_by", "")},
         ),  # fmt: skip
     ]
 
