@@ -45,6 +45,7 @@ def test_failure_mode_rule():
     assert failure_mode({"central_out": True}, 3.0) == "central out"
     assert failure_mode({"central_out": False}, 3.0) == "several blocks"
     assert failure_mode({"central_out": True}, math.nan) == "not out"
+    assert failure_mode({"central_out": True}, math.nan, "blocks 1 and 2 overlap") == "stopped"
 
 
 @pytest.mark.slow  # three 3 x 3 panels with 20000 relaxation steps each: ~30 s idle, 90 s loaded
