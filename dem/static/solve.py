@@ -53,10 +53,8 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     check in :mod:`dem.static.mechanism`.
 
     Limitations found on the seed 001 specimens: kinematics are small-displacement, so the
-    fibre law's rocking uplift against immovable supports (fixed columns) builds unbounded
-    arching unless a ``compressive_strength`` bounds it. The resultant law has no uplift (its
-    hinges rotate about the joint centroid), so with fixed columns the wall rather overturns
-    about its base, sliding along the column.
+    rocking uplift of either law (both hinge a joint on its edges) against immovable supports
+    (fixed columns) builds unbounded arching unless a ``compressive_strength`` bounds it.
     """
     start = time.perf_counter()
     settings = StaticSettings() if settings is None else settings
