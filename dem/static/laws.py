@@ -53,9 +53,6 @@ class JointArrays:
         ``(J11, J22)`` about the centroid [m^4].
     dims : (m, 2) float
         Extents ``(l1, l2)`` along ``t1, t2`` [m].
-    lever : (m, 4) float
-        Distances from the centroid to the edges ``(l1+, l1-, l2+, l2-)`` for rocking with
-        ``M1 > 0``, ``M1 < 0``, ``M2 > 0``, ``M2 < 0`` [m].
     mu : (m,) float
         Friction coefficient [-].
     tensile, cohesion : (m,) float
@@ -69,7 +66,6 @@ class JointArrays:
     area: np.ndarray
     second_moments: np.ndarray
     dims: np.ndarray
-    lever: np.ndarray
     mu: np.ndarray
     tensile: np.ndarray
     cohesion: np.ndarray

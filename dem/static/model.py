@@ -70,18 +70,15 @@ def joint_arrays(scene: Scene, settings: StaticSettings) -> JointArrays:
         at_support = scene.supports.fixed[a] | scene.supports.fixed[b]
         tensile[at_support] = 0.0
         cohesion = np.where(at_support, 0.0, cohesion)
-    lever, dims = np.zeros((m, 4)), np.zeros((m, 2))
+    dims = np.zeros((m, 2))
     for i in range(m):
         poly = itf.local_polygon(i)
-        lo, hi = poly.min(0), poly.max(0)
-        lever[i] = (-lo[1], hi[1], hi[0], -lo[0])
-        dims[i] = hi - lo
+        dims[i] = poly.max(0) - poly.min(0)
     f_c = settings.compressive_strength
     return JointArrays(
         area=itf.area,
         second_moments=itf.second_moments[:, :2],
         dims=dims,
-        lever=lever,
         mu=np.ascontiguousarray(mu, dtype=np.float64),
         tensile=tensile,
         cohesion=np.ascontiguousarray(cohesion, dtype=np.float64),
