@@ -21,20 +21,31 @@ def _gmsh_box(path):
         gmsh.model.add("box")
         gmsh.model.occ.addBox(0, 0, 0, *BOX)
         gmsh.model.occ.synchronize()
-        for dim, tag in gmsh.model.getEntities(1):
-            lo = np.array(gmsh.model.getBoundingBox(dim, tag)[:3])
-            hi = np.array(gmsh.model.getBoundingBox(dim, tag)[3:])
-            axis = int(np.argmax(hi - lo))
-            gmsh.model.mesh.setTransfiniteCurve(tag, DIVS[axis] + 1)
-        for _, tag in gmsh.model.getEntities(2):
-            gmsh.model.mesh.setTransfiniteSurface(tag)
-            gmsh.model.mesh.setRecombine(2, tag)
-        for _, tag in gmsh.model.getEntities(3):
-            gmsh.model.mesh.setTransfiniteVolume(tag)
-        gmsh.model.mesh.generate(3)
-        gmsh.write(str(path))
+
+        def cells_along(tag):
+            lo = np.array(gmsh.model.getBoundingBox(1, tag)[:3])
+            hi = np.array(gmsh.model.getBoundingBox(1, tag)[3:])
+            return DIVS[int(np.argmax(hi - lo))]
+
+        _write_hexahedra(path, cells_along)
     finally:
         gmsh.finalize()
+
+
+def _write_hexahedra(path, cells_along):
+    """Mesh the current gmsh model into transfinite hexahedra, ``cells_along(curve tag)``
+    cells per curve, and write it to ``path``."""
+    import gmsh
+
+    for _, tag in gmsh.model.getEntities(1):
+        gmsh.model.mesh.setTransfiniteCurve(tag, cells_along(tag) + 1)
+    for _, tag in gmsh.model.getEntities(2):
+        gmsh.model.mesh.setTransfiniteSurface(tag)
+        gmsh.model.mesh.setRecombine(2, tag)
+    for _, tag in gmsh.model.getEntities(3):
+        gmsh.model.mesh.setTransfiniteVolume(tag)
+    gmsh.model.mesh.generate(3)
+    gmsh.write(str(path))
 
 
 def _grid_interfaces(divs, size):
@@ -217,15 +228,7 @@ def test_gmsh_physical_groups_as_supports(tmp_path):
         (_, v_low), (_, v_high) = sorted(gmsh.model.getEntities(3))
         gmsh.model.addPhysicalGroup(3, [v_low], name="foundation")
         gmsh.model.addPhysicalGroup(3, [v_high], name="wall")
-        for _, tag in gmsh.model.getEntities(1):
-            gmsh.model.mesh.setTransfiniteCurve(tag, 2)
-        for _, tag in gmsh.model.getEntities(2):
-            gmsh.model.mesh.setTransfiniteSurface(tag)
-            gmsh.model.mesh.setRecombine(2, tag)
-        for _, tag in gmsh.model.getEntities(3):
-            gmsh.model.mesh.setTransfiniteVolume(tag)
-        gmsh.model.mesh.generate(3)
-        gmsh.write(str(path))
+        _write_hexahedra(path, lambda tag: 1)
     finally:
         gmsh.finalize()
     spec = SceneSpec(density=2000.0, mu=0.5, fixed_groups=("foundation",), live=(1.0, 0, 0))
