@@ -251,24 +251,23 @@ class ExplicitModel:
     def rebuild(self) -> None:
         """Rebuild the contact entries and carry the shear history over."""
         motion, old = self.state.motion, self.state.contacts
-        quat_to_rot(motion.quat, self.scratch.rot)
+        rot = np.empty((self.n_blocks, 3, 3))
+        quat_to_rot(motion.quat, rot)
         node, block, weight = build_pairs(
-            self.surface, motion.pos, self.scratch.rot, self.bodies, self.shapes,
-            self.settings.margin,
-        )  # fmt: skip
+            self.surface, motion.pos, rot, self.bodies, self.shapes, self.settings.margin
+        )
         shear = np.zeros((len(node), 3))
         carry_history(old.node, old.block, old.shear, node, block, shear)
         self.state.contacts = Contacts(node, block, weight, shear, motion.pos.copy(),
                                        motion.quat.copy())  # fmt: skip
         self.state.n_rebuilds += 1
         self._new_scratch()
-        self._refuse_unmodelled_contact()
+        self._refuse_unmodelled_contact(rot)
 
-    def _refuse_unmodelled_contact(self) -> None:
-        """Stop when two blocks overlap more than the model represents (:mod:`.unmodelled`)."""
+    def _refuse_unmodelled_contact(self, rot: np.ndarray) -> None:
+        """Stop when two blocks overlap more than the model represents (:mod:`.unmodelled`);
+        ``rot`` (n, 3, 3) are the current rotations."""
         motion, contacts = self.state.motion, self.state.contacts
-        rot = np.empty((self.n_blocks, 3, 3))
-        quat_to_rot(motion.quat, rot)
         entry_pairs = np.column_stack([self.surface.block[contacts.node], contacts.block])
         a, b, depth, allowed = worst_overlap(
             self.hulls, self.bodies, self.shapes, motion.pos, rot, entry_pairs,

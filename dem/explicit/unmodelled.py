@@ -5,7 +5,8 @@ Contact nodes are seeded only on faces that touch in the initial configuration
 that did not touch, have no node between them and would pass through each other without a
 force. At every neighbour-list rebuild each pair of nearby blocks gets a separating-axis test
 (face normals of both blocks and cross products of their edges: exact for convex polyhedra):
-its penetration depth is the least overlap of the two blocks' projections. A pair with no
+its penetration depth is the least distance that separates the two blocks' projections
+(:func:`dem.geometry.polyhedron.penetration_depth`, posed). A pair with no
 contact entry may overlap by at most the neighbour-list margin; a pair with entries by the
 penalty deflection, which a sound stiffness keeps far below ``OVERLAP_LIMIT`` times the thinner
 block's thickness (entries can exist between blocks that meet elsewhere, e.g. nodes of a block's
@@ -61,7 +62,7 @@ def block_hulls(blocks, ref_centroid: np.ndarray) -> Hulls:
     locals_, edges = [], []
     for blk, c in zip(blocks, ref_centroid, strict=True):
         locals_.append(blk.vertices - c)
-        d = np.concatenate([blk.vertices[np.roll(f, -1)] - blk.vertices[f] for f in blk.faces])
+        d = blk.vertices[blk.edges[:, 1]] - blk.vertices[blk.edges[:, 0]]
         d /= np.linalg.norm(d, axis=1)[:, None]
         d *= np.where(d @ [1.0, 1e-3, 1e-6] < 0.0, -1.0, 1.0)[:, None]  # one sign per family
         edges.append(np.unique(np.round(d, 9), axis=0))
@@ -103,9 +104,9 @@ def worst_overlap(
     Returns
     -------
     (a, b, depth, allowed)
-        The pair with the largest ratio of its penetration depth [m] (the least overlap of the
-        blocks' projections over the face normals of both and the cross products of their
-        edges) to its allowed overlap [m]; ``(-1, -1, 0.0, inf)`` if no two blocks overlap.
+        The pair with the largest ratio of its penetration depth [m]
+        (:mod:`dem.kernels.overlap`) to its allowed overlap [m]; ``(-1, -1, 0.0, inf)`` if no
+        two blocks overlap.
         Pairs of two fixed blocks are left out.
     """
     n = pos.shape[0]

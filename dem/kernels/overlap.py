@@ -1,6 +1,7 @@
 """Penetration depth of pairs of convex polyhedra by the separating-axis test.
 
-The depth of two convex polyhedra is the least overlap of their projections over the face
+The array form of :func:`dem.geometry.polyhedron.penetration_depth`, for many pairs of posed
+blocks at once: the least distance that separates the two blocks' projections over the face
 normals of both and the normalised cross products of their edge directions (zero when one of
 these axes separates them).
 """
@@ -12,7 +13,8 @@ from numba import njit
 
 @njit(cache=True)
 def _overlap_along(ax, ay, az, verts, a0, a1, b0, b1):
-    """Overlap [m] of the projections of vertices ``a0:a1`` and ``b0:b1`` on the axis."""
+    """Distance [m] that separates the projections of vertices ``a0:a1`` and ``b0:b1`` on the
+    axis (negative when they are apart)."""
     lo_a, hi_a, lo_b, hi_b = math.inf, -math.inf, math.inf, -math.inf
     for v in range(a0, a1):
         p = ax * verts[v, 0] + ay * verts[v, 1] + az * verts[v, 2]
@@ -20,7 +22,7 @@ def _overlap_along(ax, ay, az, verts, a0, a1, b0, b1):
     for v in range(b0, b1):
         p = ax * verts[v, 0] + ay * verts[v, 1] + az * verts[v, 2]
         lo_b, hi_b = min(lo_b, p), max(hi_b, p)
-    return min(hi_a, hi_b) - max(lo_a, lo_b)
+    return min(hi_a - lo_b, hi_b - lo_a)
 
 
 @njit(cache=True)

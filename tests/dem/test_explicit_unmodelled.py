@@ -66,3 +66,29 @@ def test_penetration_depth_of_two_cubes(shift, angle, depth):
     got = worst_overlap(block_hulls(blocks, centre), bodies, shapes, pos, rot,
                         np.zeros((0, 2), dtype=int), MARGIN)  # fmt: skip
     assert got[2] == pytest.approx(depth, abs=1e-12)
+
+
+def test_kernel_depth_equals_the_geometry_sat_on_posed_blocks():
+    # independent expectation: dem.geometry.polyhedron.penetration_depth on the posed blocks
+    from scipy.spatial.transform import Rotation
+
+    from dem.geometry.polyhedron import convex_block, penetration_depth
+    from dem.kernels.overlap import penetration_depths
+
+    rng = np.random.default_rng(3)
+    base = rng.normal(size=(12, 3)) * [0.02, 0.015, 0.01]
+    for _ in range(20):
+        posed = [convex_block(Rotation.random(random_state=rng).apply(base) + shift)
+                 for shift in (np.zeros(3), rng.normal(scale=0.012, size=3))]  # fmt: skip
+        arrays = []
+        for get in (lambda b: b.vertices, lambda b: b.normals,
+                    lambda b: b.vertices[b.edges[:, 1]] - b.vertices[b.edges[:, 0]]):  # fmt: skip
+            rows = [get(b) for b in posed]
+            ptr = np.array([0, len(rows[0]), len(rows[0]) + len(rows[1])])
+            arrays += [np.concatenate(rows), ptr]
+        edges = arrays[4] / np.linalg.norm(arrays[4], axis=1)[:, None]
+        out = np.empty(1)
+        penetration_depths(arrays[0], arrays[1], arrays[2], arrays[3], edges, arrays[5],
+                           np.array([[0, 1]]), out)  # fmt: skip
+        expected = max(0.0, penetration_depth(*posed))
+        assert out[0] == pytest.approx(expected, abs=1e-12)
