@@ -40,6 +40,7 @@ from validation.cases.uq import tis_friction_task
 from validation.sweep import DaskExecutor, SerialExecutor, latest_records, make_tasks, run_sweep
 from validation.sweep.demo import tilting_block
 from validation.sweep.execute import execute_task_one_thread, one_numba_thread
+from validation.sweep.executors import local_cluster
 
 RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
 K_IMP_3 = k_series(tis_panel_k_def(3), K_GAPS_SEED_000) / (GPA / MM)
@@ -50,10 +51,9 @@ STUDIES = {"tis-friction-uq": 65, "tis-gaps-uq": 66, "masonry-uq": 65}
 
 
 def _cluster(n_workers: int, threads: int = 1):
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
-    cluster = LocalCluster(n_workers=n_workers, threads_per_worker=threads, processes=True,
-                           dashboard_address=":0")  # fmt: skip
+    cluster = local_cluster(n_workers, threads)
     return cluster, Client(cluster)
 
 

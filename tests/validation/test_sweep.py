@@ -27,6 +27,7 @@ from validation.sweep import (
     task_seeds,
 )
 from validation.sweep.demo import tilting_block
+from validation.sweep.executors import local_cluster
 from validation.sweep.progress import ConsoleProgress
 
 BLOCK = {"b": 0.2, "h": 0.4, "mu_mean": 0.5, "mu_std": 0.1}
@@ -216,15 +217,25 @@ def test_console_progress_counts_and_failures():
 # -- on a local dask cluster (worker processes) -------------------------------------------------
 @pytest.fixture(scope="module")
 def cluster():
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
-    with (
-        LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
-        ) as lc,
-        Client(lc) as client,
-    ):
+    with local_cluster(2) as lc, Client(lc) as client:
         yield client
+
+
+def _profiler_and_tick():
+    import dask
+
+    return (
+        dask.config.get("distributed.worker.profile.enabled"),
+        dask.config.get("distributed.admin.tick.interval"),
+    )
+
+
+def test_local_cluster_workers_start_without_the_profiler_wake_ups(cluster):
+    # the settings must reach the worker processes, not only this one (the speed-up they buy
+    # is measured by benchmarks/bench_sweep.py)
+    assert set(cluster.run(_profiler_and_tick).values()) == {(False, "1s")}
 
 
 def test_dask_results_equal_serial_for_the_same_seeds(tmp_path, cluster):

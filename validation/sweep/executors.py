@@ -40,6 +40,32 @@ logger = logging.getLogger(__name__)
 SCHEDULER_ENV = "BLOCKMECH_SCHEDULER"
 WORKERS_ENV = "BLOCKMECH_WORKERS"
 IN_FLIGHT_PER_WORKER = 2
+QUIET_WORKERS = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "1s",
+    "distributed.admin.system-monitor.interval": "2s",
+    "distributed.scheduler.work-stealing-interval": "1s",
+}
+"""dask settings of the local clusters this module starts. Every 10 ms the statistical profiler
+samples the task's stack and every 20 ms the event-loop tick wakes each process; on a machine
+with as many workers as cores those wake-ups (and the scheduler's work stealing, every 100 ms)
+preempt the tasks; ``benchmarks/bench_sweep.py`` measures the speed-up. The memory monitor keeps
+its default, so memory limits act as promptly."""
+
+
+def local_cluster(n_workers: int, threads_per_worker: int = 1):
+    """A ``LocalCluster`` of ``n_workers`` worker processes with :data:`QUIET_WORKERS` (the
+    worker processes receive the settings when they start)."""
+    import dask
+    from distributed import LocalCluster
+
+    with dask.config.set(QUIET_WORKERS):
+        return LocalCluster(
+            n_workers=n_workers,
+            threads_per_worker=threads_per_worker,
+            processes=True,
+            dashboard_address=":0",
+        )
 
 
 class Executor(Protocol):
@@ -160,14 +186,9 @@ def open_executor(workers: int | None = None, scheduler: str | None = None) -> I
     if workers == 0:
         yield SerialExecutor()
         return
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     n = workers or os.cpu_count() or 1
-    with (
-        LocalCluster(
-            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0"
-        ) as cluster,
-        Client(cluster) as client,
-    ):
+    with local_cluster(n) as cluster, Client(cluster) as client:
         logger.info("sweep on a local cluster of %d single-threaded processes", n)
         yield DaskExecutor(client)
