@@ -14,6 +14,7 @@ from pathlib import Path
 
 import validation.cases
 from validation.crosscheck.cli import add_arguments as add_crosscheck_arguments
+from validation.crosscheck.cli import join_signed_values
 from validation.crosscheck.cli import run as run_crosscheck
 from validation.main_job import run_all
 from validation.report import RESULTS_DIR, staged, write_results
@@ -80,7 +81,7 @@ def main(argv: list[str] | None = None) -> int:
         _add_cluster_args(p)
     cross = sub.add_parser("crosscheck", help="every method on one scene -> report")
     add_crosscheck_arguments(cross)
-    args = parser.parse_args(argv)
+    args = parser.parse_args(join_signed_values(sys.argv[1:] if argv is None else argv))
 
     if args.command == "list":
         for name in CASES:

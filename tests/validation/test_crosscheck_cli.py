@@ -11,7 +11,7 @@ import matplotlib.image
 import meshio
 import numpy as np
 
-from dem.scenes import voussoir_arch
+from dem.scenes import stack, voussoir_arch
 from validation.__main__ import main
 from validation.crosscheck.cli import main as console_main
 from validation.main_job import CaseSummary, run_all
@@ -150,3 +150,21 @@ def test_crosscheck_of_a_mesh_with_command_line_supports(tmp_path, capfd):
     upper = next(s for s in data["steps"] if s["name"] == "limit-vertex")["values"]["upper"]
     np.testing.assert_allclose(upper, min(0.6, 0.4 / 0.5), rtol=1e-6)
     assert not list(out.glob("*.png"))
+
+
+def test_a_negative_axis_after_live_is_a_direction_not_an_option(tmp_path, capfd):
+    """``--live -x`` as the README writes it: the same column pushed along -x, same bound."""
+    scene = stack(2, 0.4, 0.3, 0.5, mu=0.6)
+    path = tmp_path / "stack.json"
+    scene.to_json(path)
+    out = tmp_path / "report"
+    code = console_main(
+        [str(path), "--live", "-x", "--out", str(out), "--methods", "dead,limit", "--no-pictures"]
+    )
+    assert code == 0, capfd.readouterr().out
+    data = json.loads((out / "report.json").read_text())
+    assert data["scene"]["live_weight_direction"] == [-1.0, 0.0, 0.0]
+    assert main(["crosscheck", str(path), "--live", "-y", "--out", str(out),
+                            "--methods", "dead", "--no-pictures"]) == 0  # fmt: skip
+    data = json.loads((out / "report.json").read_text())
+    assert data["scene"]["live_weight_direction"] == [0.0, -1.0, 0.0]

@@ -12,6 +12,7 @@ import argparse
 import sys
 import threading
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TextIO
 
@@ -50,6 +51,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     )
     parser.add_argument("--no-pictures", action="store_true", help="write no PNG pictures")
     return parser
+
+
+def join_signed_values(argv: Sequence[str]) -> list[str]:
+    """``--live -y`` as ``--live=-y``: argparse takes a value that starts with ``-`` for an
+    option of its own, so a negative axis after ``--live`` would be refused."""
+    out: list[str] = []
+    for arg in argv:
+        if out and out[-1] == "--live" and arg.lower() in ("-x", "-y", "-z"):
+            out[-1] = f"--live={arg}"
+        else:
+            out.append(arg)
+    return out
 
 
 def load_scene(args: argparse.Namespace):
@@ -168,7 +181,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = add_arguments(
         argparse.ArgumentParser(prog="blockmech-crosscheck", description=__doc__.splitlines()[0])
     )
-    return run(parser.parse_args(argv))
+    return run(parser.parse_args(join_signed_values(sys.argv[1:] if argv is None else argv)))
 
 
 if __name__ == "__main__":
