@@ -500,6 +500,7 @@ class ExplicitModel:
         steps = 0
         chunk = self.settings.chunk_steps
         ke = self.kinetic_energy()
+        start_pos = self.state.motion.pos.copy()
         while True:
             self.advance(chunk, alpha=alpha)
             steps += chunk
@@ -509,7 +510,7 @@ class ExplicitModel:
             if steps >= relaxation.max_steps:
                 message = (
                     f"relaxation did not converge in {steps} steps: kinetic energy {ke:.3e} J "
-                    f"> tolerance {tol:.3e} J"
+                    f"> tolerance {tol:.3e} J; {self._still_moving(start_pos)}"
                 )
                 if relaxation.require_convergence:
                     raise SimulationError(message)
@@ -517,6 +518,22 @@ class ExplicitModel:
                 break
         return {"steps": steps, "kinetic": ke, "tolerance": tol,
                 "wall_s": time.perf_counter() - start}  # fmt: skip
+
+    def _still_moving(self, start_pos: np.ndarray, n: int = 3) -> str:
+        """The ``n`` fastest free blocks: speed and distance moved since ``start_pos`` (a block
+        that drifts far is not held; one that only rattles in place needs more damping)."""
+        free = self.bodies.free_blocks
+        speed = np.linalg.norm(self.state.motion.vel[free], axis=1)
+        moved = np.linalg.norm(self.state.motion.pos[free] - start_pos[free], axis=1)
+        order = np.argsort(-speed, kind="stable")[:n]
+        listed = ", ".join(
+            f"block {free[i]} at {1e3 * speed[i]:.3g} mm/s, {1e3 * moved[i]:.3g} mm from its start"
+            for i in order
+        )
+        return (
+            f"fastest: {listed}. A block that keeps drifting is not held (a mechanism under "
+            "gravity, or a scene that stands only marginally: see limit.stands)"
+        )
 
 
 def _bodies(scene: Scene, settings: ExplicitSettings) -> Bodies:

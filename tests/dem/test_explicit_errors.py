@@ -78,3 +78,16 @@ def test_scene_without_any_support_named():
     model = ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4))
     with pytest.raises(SimulationError, match=r"2 blocks .*no support.*\[0, 1\]"):
         model.relax(RelaxationSettings())
+
+
+def test_relaxation_failure_names_the_block_that_keeps_moving():
+    """Block 1's centre lies 1 mm beyond the ground's edge (x = 0.03 m): it tips over while
+    block 0 rests. The error names block 1 first, with how far it has moved."""
+    scene = Scene.from_convex_blocks(
+        [cube(0.0, 0.0, 0.0), cube(0.026, 0.0, 0.0), ground()], 2500.0, fixed=[2], mu=0.5
+    )
+    model = ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4))
+    with pytest.raises(SimulationError, match="did not converge") as info:
+        model.relax(RelaxationSettings(min_steps=0, max_steps=4000))
+    fastest = str(info.value).split("fastest: ")[1]
+    assert fastest.startswith("block 1 at") and "block 0 at" in fastest
