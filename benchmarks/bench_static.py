@@ -7,7 +7,9 @@ Prints
    laws and both return-wall models: wall time against the target of 10 s, lambda, termination
    (a run that did not collapse, or raised a StaticSolverError, prints its termination,
    never a lambda), steps and Newton
-   iterations (the load-independent measure of the work);
+   iterations (the load-independent measure of the work); ``--save FILE`` writes the rows as
+   JSON, ``--baseline FILE`` (such a JSON of an earlier run) adds to each row its time and
+   iterations relative to that run and the change of lambda, and prints the totals;
 2. ``--kernels``: the same runs (with the validation case's settings) repeated in
    subprocesses under the OpenBLAS kernels ``OPENBLAS_CORETYPE = Haswell, SkylakeX,
    Sandybridge`` (the CPU must support each: AVX2, AVX-512, AVX), and the spread of lambda
@@ -24,9 +26,11 @@ Times are wall-clock on a shared machine: compare ratios within one run.
 from __future__ import annotations
 
 import argparse
+import json
 import logging
 import math
 import time
+from pathlib import Path
 
 from dem.scenes.running_bond_wall import running_bond_wall
 from dem.scenes.seed001_walls import RESTREPO_NAMES, SPECIMENS, restrepo_specimen
@@ -87,13 +91,58 @@ def _line(r: dict) -> str:
     )
 
 
-def table2(names) -> None:
+def _key(r: dict) -> str:
+    return f"{r['name']} {r['model']} {r['variant']}"
+
+
+def _ratios(r: dict, before: dict | None) -> str:
+    """Time and iterations of ``r`` over those of the same run in ``before``, and the change
+    of lambda."""
+    if before is None:
+        return "  (not in baseline)"
+    time_ratio = r["wall_s"] / max(before["wall_s"], 1e-9)
+    iter_ratio = r["iterations"] / max(before["iterations"], 1)
+    if r["lam"] is None or before["lam"] is None:
+        dlam = "lambda: " + ("same termination" if r["lam"] is before["lam"] else "changed")
+    else:
+        dlam = f"lambda {before['lam']:.4f} -> {r['lam'] / before['lam'] - 1:+.2%}"
+    return f"  time {time_ratio:4.2f}x  iterations {iter_ratio:4.2f}x  {dlam}"
+
+
+def table2(names, save: Path | None = None, baseline: Path | None = None) -> None:
+    """Every Table 2 run of ``names``; saves the rows to ``save`` (JSON) and prints the ratio
+    of time and iterations to those of the same run in the JSON ``baseline``."""
     print("== every Table 2 wall to collapse (target <= 10 s per wall) ==")
+    before = {}
+    if baseline is not None:
+        before = {_key(r): r for r in json.loads(baseline.read_text())}
     solve_collapse(
         restrepo_specimen("S15", "fixed_column"), StaticSettings(max_steps=2, on_failure="return")
     )
+    rows = []
     for run in table2_runs(names):
-        print(_line(run_wall(*run)), flush=True)
+        r = run_wall(*run)
+        rows.append(r)
+        extra = _ratios(r, before.get(_key(r))) if baseline is not None else ""
+        print(_line(r) + extra, flush=True)
+        if save is not None:
+            save.write_text(json.dumps(rows, indent=1))
+    if before:
+        _totals(rows, before)
+
+
+def _totals(rows: list[dict], before: dict) -> None:
+    common = [r for r in rows if _key(r) in before]
+    if not common:
+        return
+    t0 = sum(before[_key(r)]["wall_s"] for r in common)
+    t1 = sum(r["wall_s"] for r in common)
+    i0 = sum(before[_key(r)]["iterations"] for r in common)
+    i1 = sum(r["iterations"] for r in common)
+    print(
+        f"total of {len(common)} runs: time {t0:.1f} s -> {t1:.1f} s ({t1 / t0:.2f}x), "
+        f"iterations {i0} -> {i1} ({i1 / max(i0, 1):.2f}x)"
+    )
 
 
 def kernels(names) -> None:
@@ -183,10 +232,17 @@ def main(argv=None) -> None:
     parser.add_argument("--table2", action="store_true", help="every Table 2 wall, both laws")
     parser.add_argument("--kernels", action="store_true", help="spread across OpenBLAS kernels")
     parser.add_argument("--walls", default=",".join(RESTREPO_NAMES), help="Table 2 walls")
+    parser.add_argument("--save", type=Path, help="--table2: write the rows to this JSON file")
+    parser.add_argument(
+        "--baseline",
+        type=Path,
+        help="--table2: JSON of an earlier run (--save); print time, iterations and lambda "
+        "against it per wall",
+    )
     args = parser.parse_args(argv)
     names = args.walls.split(",")
     if args.table2:
-        table2(names)
+        table2(names, args.save, args.baseline)
     if args.kernels:
         kernels(names)
     if args.table2 or args.kernels:
