@@ -1,4 +1,4 @@
-"""Interface kinematics and sparse stiffness triplets ``K = H^T D H`` (numba).
+"""Interface kinematics and the sparse stiffness ``K = H^T D H`` (numba).
 
 Every interface couples two blocks through a dense 6 x 12 block ``B_k`` of the compatibility
 matrix ``H`` (seed 001, Eq. (A2)): columns 0-5 are the dofs of ``block_a``, 6-11 those of
@@ -112,13 +112,8 @@ def block_forces(B, block_a, block_b, f, out_F):
 
 
 @njit(cache=True)
-def stiffness_triplets_one(Bk, Dk, dofs, rows, cols, vals, pos):
-    """Write the 12 x 12 block ``B^T D B`` of one interface from ``pos``; returns the new pos.
-
-    ``dofs`` (12,) holds the global unknown of each local dof or -1 if it is eliminated
-    (fixed block, restrained dof); eliminated entries are skipped.
-    """
-    DB = np.zeros((6, 12))
+def interface_block(Bk, Dk, DB, out):
+    """The 12 x 12 block ``B^T D B`` of one interface into ``out`` (``DB``: (6, 12) scratch)."""
     for i in range(6):
         for j in range(12):
             s = 0.0
@@ -126,21 +121,20 @@ def stiffness_triplets_one(Bk, Dk, dofs, rows, cols, vals, pos):
                 s += Dk[i, p] * Bk[p, j]
             DB[i, j] = s
     for r in range(12):
-        gr = dofs[r]
-        if gr < 0:
-            continue
         for c in range(12):
-            gc = dofs[c]
-            if gc < 0:
-                continue
             s = 0.0
             for i in range(6):
                 s += Bk[i, r] * DB[i, c]
-            rows[pos] = gr
-            cols[pos] = gc
-            vals[pos] = s
-            pos += 1
-    return pos
+            out[r, c] = s
+
+
+@njit(cache=True)
+def interface_dofs(dof_index, a, b, out):
+    """The unknown of each of the 12 local dofs of an interface between blocks ``a`` and
+    ``b`` into ``out``, -1 where eliminated (fixed block, restrained dof)."""
+    for j in range(6):
+        out[j] = dof_index[a, j]
+        out[6 + j] = dof_index[b, j]
 
 
 @njit(cache=True)
@@ -167,10 +161,34 @@ def stiffness_triplets(B, D, block_a, block_b, dof_index):
     cols = np.empty(144 * m, dtype=np.int64)
     vals = np.empty(144 * m, dtype=np.float64)
     dofs = np.empty(12, dtype=np.int64)
+    DB, Kk = np.empty((6, 12)), np.empty((12, 12))
     pos = 0
     for k in range(m):
-        for j in range(6):
-            dofs[j] = dof_index[block_a[k], j]
-            dofs[6 + j] = dof_index[block_b[k], j]
-        pos = stiffness_triplets_one(B[k], D[k], dofs, rows, cols, vals, pos)
+        interface_dofs(dof_index, block_a[k], block_b[k], dofs)
+        interface_block(B[k], D[k], DB, Kk)
+        for r in range(12):
+            for c in range(12):
+                if dofs[r] >= 0 and dofs[c] >= 0:
+                    rows[pos] = dofs[r]
+                    cols[pos] = dofs[c]
+                    vals[pos] = Kk[r, c]
+                    pos += 1
     return rows[:pos], cols[:pos], vals[:pos]
+
+
+@njit(cache=True)
+def stiffness_values(B, D, block_a, block_b, dof_index, slots, out):
+    """Add ``K = H^T D H`` into the values ``out`` of a fixed sparse structure: triplet ``p``
+    of :func:`stiffness_triplets` (same order) goes to ``out[slots[p]]``, so ``out`` equals
+    the structure's ``bincount`` of the triplets without forming them."""
+    dofs = np.empty(12, dtype=np.int64)
+    DB, Kk = np.empty((6, 12)), np.empty((12, 12))
+    pos = 0
+    for k in range(B.shape[0]):
+        interface_dofs(dof_index, block_a[k], block_b[k], dofs)
+        interface_block(B[k], D[k], DB, Kk)
+        for r in range(12):
+            for c in range(12):
+                if dofs[r] >= 0 and dofs[c] >= 0:
+                    out[slots[pos]] += Kk[r, c]
+                    pos += 1

@@ -21,6 +21,7 @@ from dem.kernels.stiffness import (
     local_compatibility,
     relative_motion,
     stiffness_triplets,
+    stiffness_values,
 )
 from dem.scene import DOFS, Scene
 from dem.static.laws import InterfaceLaw, JointArrays, LawResponse
@@ -181,8 +182,8 @@ class Model:
     def _pattern(self, nz_w: np.ndarray | None):
         """CSC structure of K (or of the bordered matrix whose last row is nonzero at
         ``nz_w``) and the slot of every triplet: the triplets of ``H^T D H`` keep their order
-        between iterations, so each assembly is a ``bincount`` of the values into a
-        structure built once."""
+        between iterations, so each assembly adds the values into their slots of a
+        structure built once (:func:`dem.kernels.stiffness.stiffness_values`)."""
         key = None if nz_w is None else nz_w.tobytes()
         if key in self._patterns:
             return self._patterns[key]
@@ -211,10 +212,12 @@ class Model:
         """``K = H^T D H`` on the unknowns, or the bordered ``[[K, -F_L], [w^T, 0]]``."""
         nz_w = None if w is None else np.flatnonzero(w)
         size, indices, indptr, inverse, n_trip, nnz = self._pattern(nz_w)
-        _, _, vals = stiffness_triplets(self.B, D, self.a, self.b, self.dof_index)
-        if w is not None:
-            vals = np.concatenate([vals, -self.F_live[np.flatnonzero(self.F_live)], w[nz_w]])
-        data = np.bincount(inverse, weights=vals, minlength=nnz)
+        data = np.zeros(nnz)
+        stiffness_values(self.B, D, self.a, self.b, self.dof_index, inverse, data)
+        if w is not None:  # the border's slots are distinct and apart from K's
+            data[inverse[n_trip:]] = np.concatenate(
+                [-self.F_live[np.flatnonzero(self.F_live)], w[nz_w]]
+            )
         return sp.csc_matrix((data, indices, indptr), shape=(size, size))
 
     def full(self, u_free: np.ndarray) -> np.ndarray:
