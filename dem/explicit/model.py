@@ -40,7 +40,7 @@ from dem.explicit.state import (
 )
 from dem.explicit.timestep import choose_time_step, highest_frequency
 from dem.explicit.unmodelled import UnmodelledContactError, block_hulls, worst_overlap
-from dem.kernels.broadphase import build_pairs, carry_history, single_faces
+from dem.kernels.broadphase import build_pairs, carry_history, near_faces
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
     MU_RULE_MIN,
@@ -290,10 +290,10 @@ class ExplicitModel:
         contacts = self.state.contacts
         rot_build = np.zeros((self.n_blocks, 3, 3))
         quat_to_rot(contacts.quat_build, rot_build)
-        single = np.empty(self.n_entries, dtype=np.int64)
-        single_faces(self.surface, contacts.node, contacts.block, contacts.pos_build, rot_build,
-                     self.bodies, self.shapes, self.settings.margin, single)  # fmt: skip
-        self.pairs = PairFrames.of_list(self.surface.block, contacts, single, self.n_blocks,
+        near = np.empty((self.n_entries, 2), dtype=np.int64)
+        near_faces(self.surface, contacts.node, contacts.block, contacts.pos_build, rot_build,
+                   self.bodies, self.shapes, self.settings.margin, near)  # fmt: skip
+        self.pairs = PairFrames.of_list(self.surface.block, contacts, near, self.n_blocks,
                                         self.shapes.face_ptr)  # fmt: skip
 
     # -- loads, motion measures, state ---------------------------------------------------------

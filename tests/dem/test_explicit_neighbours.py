@@ -2,8 +2,8 @@
 
 Two shortcuts (:func:`dem.kernels.contact_force.contact_entries`): a separated entry is not
 evaluated while the drift of its two blocks cannot have closed its gap, and an entry whose
-neighbour has one face that can be its nearest plane until the next list rebuild
-(:func:`dem.kernels.broadphase.single_faces`) tests that plane only. The reference evaluates
+neighbour has one or two faces that can be its nearest plane until the next list rebuild
+(:func:`dem.kernels.broadphase.near_faces`) tests those planes only. The reference evaluates
 every entry against every face of its neighbour at every step: the trajectories must agree bit
 for bit, so a contact missed for one step, or a wrong plane, fails the tests.
 """
@@ -35,31 +35,33 @@ def model_of(blocks, velocity):
 def full_scan(model, n_steps):
     """Advance step by step with both shortcuts off: every entry, every face."""
     for _ in range(n_steps):
-        model.pairs.single_face[:] = -1
+        model.pairs.near_faces[:] = -1
         model.scratch.skip_gap[:] = 0.0
         model.advance(1)
 
 
 def shortcut_counts(model, n_steps, chunk=50):
-    """Advance with the shortcuts; entries with one face and entries skipped, summed over
-    chunks."""
-    single = skipped = 0
+    """Advance with the shortcuts; entries with one face, with two faces and entries skipped,
+    summed over chunks."""
+    single = double = skipped = 0
     for _ in range(n_steps // chunk):
         model.advance(chunk)
-        single += int(np.count_nonzero(model.pairs.single_face >= 0))
+        near = model.pairs.near_faces
+        single += int(np.count_nonzero((near[:, 0] >= 0) & (near[:, 1] < 0)))
+        double += int(np.count_nonzero(near[:, 1] >= 0))
         skipped += int(np.count_nonzero(model.scratch.skip_gap > 0))
-    return single, skipped
+    return single, double, skipped
 
 
 def assert_same_run(blocks, velocity, n_steps):
     fast, slow = model_of(blocks, velocity), model_of(blocks, velocity)
-    single, skipped = shortcut_counts(fast, n_steps)
+    single, double, skipped = shortcut_counts(fast, n_steps)
     full_scan(slow, n_steps)
     assert single > 0 and skipped > 0  # both shortcuts were used
     np.testing.assert_array_equal(fast.pos, slow.pos)
     np.testing.assert_array_equal(fast.quat, slow.quat)
     np.testing.assert_array_equal(fast.state.contacts.shear, slow.state.contacts.shear)
-    return fast
+    return fast, double
 
 
 def test_block_sliding_off_an_edge_matches_full_scan():
@@ -67,7 +69,8 @@ def test_block_sliding_off_an_edge_matches_full_scan():
     edge change their nearest plane (top face -> end face) and lose contact; it then tips."""
     ground = box(-0.02, -0.01, -SIDE, sx=0.03, sy=0.03)
     top = box(0.0, 0.0, 0.0)
-    model = assert_same_run([ground, top], [0.8, 0.0, 0.0], 6000)
+    model, double = assert_same_run([ground, top], [0.8, 0.0, 0.0], 6000)
+    assert double > 0  # nodes near the edge tested two planes
     assert model.pos[1, 0] - SIDE / 2 > 0.5 * SIDE  # its centroid is past the edge
     assert model.quat[1, 2] != 0.0  # it tips over the edge
 
@@ -81,6 +84,6 @@ def test_block_coming_back_from_beyond_the_margin_matches_full_scan():
     model = model_of([ground, top], [0.05, 0.0, 0.1])
     model.advance(300)
     assert model.n_entries == 0 and model.pos[1, 2] - SIDE / 2 > 3 * MARGIN  # far
-    model = assert_same_run([ground, top], [0.05, 0.0, 0.1], 3000)
+    model, _ = assert_same_run([ground, top], [0.05, 0.0, 0.1], 3000)
     assert model.n_entries > 0
     assert abs(model.pos[1, 2] - SIDE / 2) < MARGIN  # landed, did not pass through
