@@ -240,118 +240,117 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
     shear history are zero meanwhile, as an evaluation would give: the result is exactly that
     of evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated
     values). Level sets are not a distance bound: no skipping there.
+
+    One function on purpose (numba 0.68): the loop over a run's entries inlined from a helper
+    taking the state's tuples paid about 80 reference counts per run, and a plane choice
+    inlined from a helper with early returns made every entry 1.5 times slower
+    (``benchmarks/bench_explicit.py``).
     """
-    run_ptr, run_pair = pairs.run_ptr, pairs.run_pair
-    k = np.searchsorted(run_ptr, e_begin, side="right") - 1  # the run holding e_begin
-    e = e_begin
-    while e < e_end:
-        stop = min(run_ptr[k + 1], e_end)
-        pair_run(e, stop, run_pair[k], nodes, contacts, motion, bodies, shapes, law, dt,
-                 scratch, pairs, record, sums)  # fmt: skip
-        e = stop
-        k += 1
-
-
-@njit(cache=True, inline="always")
-def pair_run(e_begin, e_end, q, nodes, contacts, motion, bodies, shapes, law, dt, scratch,
-             pairs, record, sums):  # fmt: skip
-    """Entries ``e_begin:e_end``, all of pair ``q`` (arguments as :func:`contact_entries`):
-    the pair's rotation, relative velocity, friction coefficient, drift and sums are read
-    once (the same arithmetic as per entry: the results are identical)."""
     pair_node, pair_weight, pair_shear = contacts.node, contacts.weight, contacts.shear
     node_r0, node_n0, node_area = nodes.r0, nodes.n0, nodes.area
-    near_faces, face_v, face_u, face_d = (
-        pairs.near_faces, pairs.face_v, pairs.face_u, pairs.face_d
-    )  # fmt: skip
+    rot, drift, block_mu = scratch.rot, scratch.drift, bodies.block_mu
+    run_ptr, run_pair, near_faces = pairs.run_ptr, pairs.run_pair, pairs.near_faces
+    face_v, face_u, face_d = pairs.face_v, pairs.face_u, pairs.face_d
     use_level_set, k_n, k_t, beta = shapes.use_level_set, law.k_n, law.k_t, law.beta
     compat_cos, margin = law.compat_cos, law.margin
     out_depth, skip_gap, skip_drift = scratch.out_depth, scratch.skip_gap, scratch.skip_drift
     out_force, out_point, pos = scratch.out_force, scratch.out_point, motion.pos
-    a, b = pairs.a[q], pairs.b[q]
-    f_begin, f_end = pairs.face_ptr[q], pairs.face_ptr[q + 1]
-    drift_ab = scratch.drift[a] + scratch.drift[b]
-    ra = scratch.rot[a]
-    r00, r01, r02, r10, r11, r12 = ra[0, 0], ra[0, 1], ra[0, 2], ra[1, 0], ra[1, 1], ra[1, 2]
-    r20, r21, r22 = ra[2, 0], ra[2, 1], ra[2, 2]
-    v0, v1, v2 = pairs.vel[q, 0], pairs.vel[q, 1], pairs.vel[q, 2]
-    w0, w1, w2 = pairs.omega[q, 0], pairs.omega[q, 1], pairs.omega[q, 2]
-    mu = pair_mu(bodies.block_mu[a], bodies.block_mu[b], law.mu_rule)
-    s_f0, s_f1, s_f2, s_m0, s_m1, s_m2 = sums[q, 0], sums[q, 1], sums[q, 2], sums[q, 3], \
-        sums[q, 4], sums[q, 5]  # fmt: skip
-    for e in range(e_begin, e_end):
-        gap = skip_gap[e]
-        if gap > 0.0 and drift_ab - skip_drift[e] < gap:
-            continue  # still separated: its force and shear history are zero (see Notes)
-        i = pair_node[e]
-        r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
-        if use_level_set:
-            phi, n0, n1, n2 = _level_set_plane(r0x, r0y, r0z, q, b, pairs.to_b, pairs.shift,
-                                               scratch.rot, shapes)  # fmt: skip
-            bound = 0.0
-        else:
-            if compat_cos <= 1.0:
-                phi, f, bound = _compatible_plane(
-                    r0x, r0y, r0z, node_n0[i, 0], node_n0[i, 1], node_n0[i, 2], face_v, face_d,
-                    f_begin, f_end, compat_cos, margin,
-                )  # fmt: skip
-            elif near_faces[e, 0] >= 0:
-                f = f_begin + near_faces[e, 0]
-                phi = face_v[f, 0] * r0x + face_v[f, 1] * r0y + face_v[f, 2] * r0z - face_d[f]
-                if near_faces[e, 1] >= 0:
-                    # the later face wins only when strictly larger, as in the full scan
-                    g = f_begin + near_faces[e, 1]
-                    dist = face_v[g, 0] * r0x + face_v[g, 1] * r0y + face_v[g, 2] * r0z - face_d[g]
-                    if dist > phi:
-                        phi, f = dist, g
-                bound = phi
+    k = np.searchsorted(run_ptr, e_begin, side="right") - 1  # the run holding e_begin
+    e_run = e_begin
+    while e_run < e_end:
+        # one run of entries of pair q: its data once (the same arithmetic as per entry)
+        q = run_pair[k]
+        e_stop = min(run_ptr[k + 1], e_end)
+        a, b = pairs.a[q], pairs.b[q]
+        f_begin, f_end = pairs.face_ptr[q], pairs.face_ptr[q + 1]
+        drift_ab = drift[a] + drift[b]
+        r00, r01, r02 = rot[a, 0, 0], rot[a, 0, 1], rot[a, 0, 2]
+        r10, r11, r12 = rot[a, 1, 0], rot[a, 1, 1], rot[a, 1, 2]
+        r20, r21, r22 = rot[a, 2, 0], rot[a, 2, 1], rot[a, 2, 2]
+        v0, v1, v2 = pairs.vel[q, 0], pairs.vel[q, 1], pairs.vel[q, 2]
+        w0, w1, w2 = pairs.omega[q, 0], pairs.omega[q, 1], pairs.omega[q, 2]
+        mu = pair_mu(block_mu[a], block_mu[b], law.mu_rule)
+        s_f0, s_f1, s_f2 = sums[q, 0], sums[q, 1], sums[q, 2]
+        s_m0, s_m1, s_m2 = sums[q, 3], sums[q, 4], sums[q, 5]
+        for e in range(e_run, e_stop):
+            gap = skip_gap[e]
+            if gap > 0.0 and drift_ab - skip_drift[e] < gap:
+                continue  # still separated: its force and shear history are zero (see Notes)
+            i = pair_node[e]
+            r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
+            if use_level_set:
+                phi, n0, n1, n2 = _level_set_plane(r0x, r0y, r0z, q, b, pairs.to_b,
+                                                   pairs.shift, rot, shapes)  # fmt: skip
+                bound = 0.0
             else:
-                phi, f = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, f_begin, f_end)
-                bound = phi
-            n0, n1, n2 = face_u[f, 0], face_u[f, 1], face_u[f, 2]
-        out_depth[e] = -phi
-        touching = phi < 0.0 and pair_weight[e] != 0.0
-        if not touching:
-            pair_shear[e, 0] = 0.0
-            pair_shear[e, 1] = 0.0
-            pair_shear[e, 2] = 0.0
-            if not use_level_set and bound > 0.0:
-                skip_gap[e] = bound
-                skip_drift[e] = drift_ab
-            if not record:
-                continue
-        else:
-            skip_gap[e] = 0.0
-        rx = r00 * r0x + r01 * r0y + r02 * r0z
-        ry = r10 * r0x + r11 * r0y + r12 * r0z
-        rz = r20 * r0x + r21 * r0y + r22 * r0z
-        f0 = f1 = f2 = 0.0
-        if touching:
-            # relative velocity of a's material point against b's material point at x
-            t0, t1, t2, s0, s1, s2 = traction_one(
-                -phi, n0, n1, n2, v0 + w1 * rz - w2 * ry, v1 + w2 * rx - w0 * rz,
-                v2 + w0 * ry - w1 * rx, pair_shear[e, 0], pair_shear[e, 1], pair_shear[e, 2],
-                k_n, k_t, mu, beta, dt,
-            )  # fmt: skip
-            pair_shear[e, 0] = s0
-            pair_shear[e, 1] = s1
-            pair_shear[e, 2] = s2
-            area = node_area[i] * pair_weight[e]
-            f0, f1, f2 = t0 * area, t1 * area, t2 * area
-            s_f0 += f0
-            s_f1 += f1
-            s_f2 += f2
-            s_m0 += ry * f2 - rz * f1
-            s_m1 += rz * f0 - rx * f2
-            s_m2 += rx * f1 - ry * f0
-        if record:
-            out_force[e, 0] = f0
-            out_force[e, 1] = f1
-            out_force[e, 2] = f2
-            out_point[e, 0] = pos[a, 0] + rx
-            out_point[e, 1] = pos[a, 1] + ry
-            out_point[e, 2] = pos[a, 2] + rz
-    sums[q, 0], sums[q, 1], sums[q, 2] = s_f0, s_f1, s_f2
-    sums[q, 3], sums[q, 4], sums[q, 5] = s_m0, s_m1, s_m2
+                if compat_cos <= 1.0:
+                    phi, f, bound = _compatible_plane(
+                        r0x, r0y, r0z, node_n0[i, 0], node_n0[i, 1], node_n0[i, 2], face_v,
+                        face_d, f_begin, f_end, compat_cos, margin,
+                    )  # fmt: skip
+                elif near_faces[e, 0] >= 0:
+                    f = f_begin + near_faces[e, 0]
+                    phi = face_v[f, 0] * r0x + face_v[f, 1] * r0y + face_v[f, 2] * r0z - face_d[f]
+                    if near_faces[e, 1] >= 0:
+                        # the later face wins only when strictly larger, as in the full scan
+                        g = f_begin + near_faces[e, 1]
+                        dist = (
+                            face_v[g, 0] * r0x + face_v[g, 1] * r0y + face_v[g, 2] * r0z
+                            - face_d[g]
+                        )  # fmt: skip
+                        if dist > phi:
+                            phi, f = dist, g
+                    bound = phi
+                else:
+                    phi, f = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, f_begin, f_end)
+                    bound = phi
+                n0, n1, n2 = face_u[f, 0], face_u[f, 1], face_u[f, 2]
+            out_depth[e] = -phi
+            touching = phi < 0.0 and pair_weight[e] != 0.0
+            if not touching:
+                pair_shear[e, 0] = 0.0
+                pair_shear[e, 1] = 0.0
+                pair_shear[e, 2] = 0.0
+                if not use_level_set and bound > 0.0:
+                    skip_gap[e] = bound
+                    skip_drift[e] = drift_ab
+                if not record:
+                    continue
+            else:
+                skip_gap[e] = 0.0
+            rx = r00 * r0x + r01 * r0y + r02 * r0z
+            ry = r10 * r0x + r11 * r0y + r12 * r0z
+            rz = r20 * r0x + r21 * r0y + r22 * r0z
+            f0 = f1 = f2 = 0.0
+            if touching:
+                # relative velocity of a's material point against b's material point at x
+                t0, t1, t2, s0, s1, s2 = traction_one(
+                    -phi, n0, n1, n2, v0 + w1 * rz - w2 * ry, v1 + w2 * rx - w0 * rz,
+                    v2 + w0 * ry - w1 * rx, pair_shear[e, 0], pair_shear[e, 1],
+                    pair_shear[e, 2], k_n, k_t, mu, beta, dt,
+                )  # fmt: skip
+                pair_shear[e, 0] = s0
+                pair_shear[e, 1] = s1
+                pair_shear[e, 2] = s2
+                area = node_area[i] * pair_weight[e]
+                f0, f1, f2 = t0 * area, t1 * area, t2 * area
+                s_f0 += f0
+                s_f1 += f1
+                s_f2 += f2
+                s_m0 += ry * f2 - rz * f1
+                s_m1 += rz * f0 - rx * f2
+                s_m2 += rx * f1 - ry * f0
+            if record:
+                out_force[e, 0] = f0
+                out_force[e, 1] = f1
+                out_force[e, 2] = f2
+                out_point[e, 0] = pos[a, 0] + rx
+                out_point[e, 1] = pos[a, 1] + ry
+                out_point[e, 2] = pos[a, 2] + rz
+        sums[q, 0], sums[q, 1], sums[q, 2] = s_f0, s_f1, s_f2
+        sums[q, 3], sums[q, 4], sums[q, 5] = s_m0, s_m1, s_m2
+        e_run = e_stop
+        k += 1
 
 
 @njit(cache=True)

@@ -11,7 +11,12 @@ for bit, so a contact missed for one step, or a wrong plane, fails the tests.
 import numpy as np
 
 from dem.explicit import ExplicitModel, ExplicitSettings
+from dem.kernels.contact_force import contact_entries, pair_frames
+from dem.kernels.integrate import quat_to_rot
 from dem.scene import Scene
+from dem.scenes.tis_panel import tis_panel
+from dem.tis_stiffness import tis_panel_k_def
+from dem.units import MM
 
 SIDE = 0.01  # [m]
 MARGIN = 1e-4  # [m]
@@ -87,3 +92,41 @@ def test_block_coming_back_from_beyond_the_margin_matches_full_scan():
     model, _ = assert_same_run([ground, top], [0.05, 0.0, 0.1], 3000)
     assert model.n_entries > 0
     assert abs(model.pos[1, 2] - SIDE / 2) < MARGIN  # landed, did not pass through
+
+
+def test_entry_range_split_anywhere_counts_every_entry_once():
+    """The entry loop walks runs of one block pair; a range that starts or ends inside a run
+    (the chunks of the parallel loop) must evaluate each of its entries exactly once. Split
+    at every entry, the two halves give the whole range's forces, depths and shear history bit
+    for bit (an entry evaluated twice would increment its history twice, a missed one keeps
+    NaN) and its pair sums up to rounding."""
+    scene = tis_panel(3, 2.5)
+    model = ExplicitModel(scene, ExplicitSettings(k_n=tis_panel_k_def(3), node_spacing=2 * MM))
+    rng = np.random.default_rng(0)
+    free = model.free_blocks
+    model.vel[free] = rng.normal(scale=1e-3, size=(len(free), 3))
+    model.omega[free] = rng.normal(scale=1e-2, size=(len(free), 3))
+    sc, pairs, m = model.scratch, model.pairs, model.n_entries
+    quat_to_rot(model.quat, sc.rot)
+    pair_frames(model.state.motion, sc.rot, model.bodies, model.shapes, pairs)
+    assert len(pairs.run_pair) > 10 and np.any(np.diff(pairs.run_ptr) > 1)
+
+    def evaluate(ranges):
+        contacts = model.state.contacts._replace(shear=model.state.contacts.shear.copy())
+        for arr in (sc.out_force, sc.out_depth):
+            arr.fill(np.nan)
+        sc.skip_gap.fill(0.0)  # evaluate every entry
+        sums = np.zeros((len(ranges), len(pairs.a), 6))
+        for j, (begin, end) in enumerate(ranges):
+            contact_entries(begin, end, model.surface, contacts, model.state.motion, model.bodies,
+                            model.shapes, model.law, 1e-6, sc, pairs, True, sums[j])  # fmt: skip
+        return contacts.shear, sc.out_force.copy(), sc.out_depth.copy(), sums.sum(axis=0)
+
+    shear, force, depth, sums = evaluate([(0, m)])
+    assert np.count_nonzero(np.abs(shear).sum(axis=1)) > 10  # histories that change
+    for k in range(m + 1):
+        split = evaluate([(0, k), (k, m)])
+        np.testing.assert_array_equal(split[0], shear)
+        np.testing.assert_array_equal(split[1], force)
+        np.testing.assert_array_equal(split[2], depth)
+        np.testing.assert_allclose(split[3], sums, rtol=1e-12, atol=1e-12 * np.abs(sums).max())
