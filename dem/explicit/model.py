@@ -8,11 +8,13 @@ that evolves; drivers advance it, snapshot and restore it, and checkpoints hold 
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import os
 import time
 
+import numba
 import numpy as np
 import scipy.sparse
 import scipy.sparse.csgraph
@@ -453,12 +455,12 @@ class ExplicitModel:
             )
         left = int(n_steps)
         while left > 0:
-            done, status, self.state.t = run_steps(
-                left, self.dt, self.state.t, alpha, self.settings.local_damping, self.parallel,
-                self.bodies, self.shapes,
-                self.surface, self.law, self.state.motion, self.state.contacts, self.scratch,
-                self.pairs, sphere, acc,
-            )  # fmt: skip
+            with _dynamic_schedule(self.parallel):
+                done, status, self.state.t = run_steps(
+                    left, self.dt, self.state.t, alpha, self.settings.local_damping,
+                    self.parallel, self.bodies, self.shapes, self.surface, self.law,
+                    self.state.motion, self.state.contacts, self.scratch, self.pairs, sphere, acc,
+                )  # fmt: skip
             left -= done
             if status == STATUS_NOT_FINITE:
                 raise SimulationError(
@@ -517,6 +519,23 @@ class ExplicitModel:
                 break
         return {"steps": steps, "kinetic": ke, "tolerance": tol,
                 "wall_s": time.perf_counter() - start}  # fmt: skip
+
+
+@contextlib.contextmanager
+def _dynamic_schedule(active: bool):
+    """With ``active``, numba's parallel loops hand their iterations (the node loop's chunks)
+    to the threads one at a time as they finish, instead of in equal shares decided up front:
+    chunks differ in cost (separated entries are skipped) and on a shared machine a thread can
+    lose its core for a while. Each chunk sums into its own buffer, so results do not depend on
+    the schedule. (Set from Python: set in the kernel, numba would not cache it.)"""
+    if not active:
+        yield
+        return
+    previous = numba.set_parallel_chunksize(1)
+    try:
+        yield
+    finally:
+        numba.set_parallel_chunksize(previous)
 
 
 def _bodies(scene: Scene, settings: ExplicitSettings) -> Bodies:
