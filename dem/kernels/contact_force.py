@@ -272,11 +272,12 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
         mu = pair_mu(block_mu[a], block_mu[b], law.mu_rule)
         s_f0, s_f1, s_f2 = sums[q, 0], sums[q, 1], sums[q, 2]
         s_m0, s_m1, s_m2 = sums[q, 3], sums[q, 4], sums[q, 5]
-        for e in range(e_run, e_stop):
+        # unsigned indices: numba wraps negative signed ones, a compare and a select per access
+        for e in range(np.uint64(e_run), np.uint64(e_stop)):
             gap = skip_gap[e]
             if gap > 0.0 and drift_ab - skip_drift[e] < gap:
                 continue  # still separated: its force and shear history are zero (see Notes)
-            i = pair_node[e]
+            i = np.uint64(pair_node[e])
             r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
             if use_level_set:
                 phi, n0, n1, n2 = _level_set_plane(r0x, r0y, r0z, q, b, pairs.to_b,
@@ -284,16 +285,17 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
                 bound = 0.0
             else:
                 if compat_cos <= 1.0:
-                    phi, f, bound = _compatible_plane(
+                    phi, f_c, bound = _compatible_plane(
                         r0x, r0y, r0z, node_n0[i, 0], node_n0[i, 1], node_n0[i, 2], face_v,
                         face_d, f_begin, f_end, compat_cos, margin,
                     )  # fmt: skip
+                    f = np.uint64(f_c)
                 elif near_faces[e, 0] >= 0:
-                    f = f_begin + near_faces[e, 0]
+                    f = np.uint64(f_begin + near_faces[e, 0])
                     phi = face_v[f, 0] * r0x + face_v[f, 1] * r0y + face_v[f, 2] * r0z - face_d[f]
                     if near_faces[e, 1] >= 0:
                         # the later face wins only when strictly larger, as in the full scan
-                        g = f_begin + near_faces[e, 1]
+                        g = np.uint64(f_begin + near_faces[e, 1])
                         dist = (
                             face_v[g, 0] * r0x + face_v[g, 1] * r0y + face_v[g, 2] * r0z
                             - face_d[g]
@@ -302,7 +304,8 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
                             phi, f = dist, g
                     bound = phi
                 else:
-                    phi, f = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, f_begin, f_end)
+                    phi, f_c = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, f_begin, f_end)
+                    f = np.uint64(f_c)
                     bound = phi
                 n0, n1, n2 = face_u[f, 0], face_u[f, 1], face_u[f, 2]
             out_depth[e] = -phi
