@@ -292,7 +292,9 @@ class ExplicitModel:
         contacts = self.state.contacts
         rot_build = np.zeros((self.n_blocks, 3, 3))
         quat_to_rot(contacts.quat_build, rot_build)
-        near = np.empty((self.n_entries, 2), dtype=np.int64)
+        # face positions as int16 (less memory per entry) unless a block has more faces
+        narrow = np.diff(self.shapes.face_ptr).max(initial=0) < 2**15
+        near = np.empty((self.n_entries, 2), dtype=np.int16 if narrow else np.int64)
         near_faces(self.surface, contacts.node, contacts.block, contacts.pos_build, rot_build,
                    self.bodies, self.shapes, self.settings.margin, near)  # fmt: skip
         self.pairs = PairFrames.of_list(self.surface.block, contacts, near, self.n_blocks,

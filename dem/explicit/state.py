@@ -200,7 +200,7 @@ class PairFrames(NamedTuple):
         Runs of consecutive entries of one pair: entries ``run_ptr[k]:run_ptr[k + 1]``
         belong to pair ``run_pair[k]`` (r,) int64 (entries stay in the list's order, by node,
         so a pair can have several runs; the loop handles a pair's data once per run).
-    near_faces : (m, 2) int64
+    near_faces : (m, 2) int16 (int64 when a block has 2**15 faces or more)
         The one or two faces of ``b`` that can be the entry's nearest plane until the next
         rebuild, by their position among ``b``'s faces, in face order; the second -1 when one
         can, both -1 when more than two can (:func:`dem.kernels.broadphase.near_faces`).
@@ -250,7 +250,7 @@ class PairFrames(NamedTuple):
         node_block : (n_nodes,) int64
             Owner block of each node.
         contacts : Contacts
-        near_faces : (m, 2) int64
+        near_faces : (m, 2) int16 (int64 when a block has 2**15 faces or more)
             See the class.
         n_blocks : int
         face_ptr : (n_blocks + 1,) int64

@@ -221,7 +221,7 @@ def near_faces(nodes, entry_node, entry_block, pos_build, rot_build, bodies, sha
     bodies, shapes : Bodies, Shapes
     margin : float
         [m].
-    out : (m, 2) int64
+    out : (m, 2) int16 (or wider)
         Written: the candidate faces by their position among the neighbour's faces (0 for its
         first face), in face order; ``out[e, 1] = -1`` when there is one, both -1 when there
         are more than two.
