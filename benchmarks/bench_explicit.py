@@ -13,7 +13,9 @@ parallel are compared within one run.
    parallel ratio of the step's wall time, with the thread count and threading layer.
 2. The full 5 x 5, 2.5 degree run (relaxation + indentation until the central block is out) at
    the discretisation ``tis-convergence`` calls converged (``validation.cases.tis.CONVERGED``),
-   with its wall time and cost per node per step (issue 12 target: 15 ns).
+   with its wall time and cost per node per step (issue 12 target: 15 ns). ``--reference FILE``
+   checks that a change of the code leaves the results alone: the first run writes the curve
+   (P, delta, block poses, energies) to ``FILE``, later runs compare theirs with it exactly.
 3. The seed's resolution, node spacing 0.06 mm (about half a million nodes): set-up time, the
    measured cost of a step, and the run time projected from it and the step count of the run
    of item 2 (the number of steps does not depend on the node spacing: the time step follows
@@ -25,6 +27,7 @@ Usage::
     python benchmarks/bench_explicit.py               # 1, 2 and 3 (projected)
     python benchmarks/bench_explicit.py --quick       # 1, a coarse 2, and 3 (projected)
     python benchmarks/bench_explicit.py --seed-full   # 1, 2 and the full run of 3
+    python benchmarks/bench_explicit.py --reference /tmp/curve.npz   # on main, then on a branch
 """
 
 from __future__ import annotations
@@ -85,6 +88,7 @@ def step_cost(model: ExplicitModel, n_steps: int) -> dict:
     contacts = st.contacts._replace(shear=st.contacts.shear.copy())
     parts = {"step": clock(lambda: model.advance(n_steps), 1)}
     parts["step"] = tuple(x / n_steps for x in parts["step"])
+    shares = entry_shares(model)
     for name, (weight, k_t, gap) in PARTS.items():
         c = contacts if weight else contacts._replace(weight=np.zeros_like(contacts.weight))
         law = model.law if k_t else model.law._replace(k_t=0.0)
@@ -92,7 +96,16 @@ def step_cost(model: ExplicitModel, n_steps: int) -> dict:
         run()  # compile
         parts[name] = clock(run, n_steps)
     return {"nodes": model.nodes.n_nodes + len(model.indenter.block),
-            "entries": model.n_entries, "parts": parts}  # fmt: skip
+            "entries": model.n_entries, "parts": parts, "shares": shares}  # fmt: skip
+
+
+def entry_shares(model: ExplicitModel) -> tuple[float, float]:
+    """Shares of the entries skipped (separated, cannot touch yet) and in contact at the last
+    step; the rest were evaluated and found separated."""
+    sc, weight = model.scratch, model.state.contacts.weight
+    skipped = sc.skip_gap > 0.0
+    touching = ~skipped & (sc.out_depth > 0.0) & (weight != 0.0)
+    return float(skipped.mean()), float(touching.mean())
 
 
 PARTS = {
@@ -122,15 +135,17 @@ def print_step_costs(spacings) -> None:
             )
             w, c = r["parts"]["step"]
             walls[parallel] = w
+            skipped, touching = r["shares"]
             print(f"  h={spacing:.2f} mm parallel={parallel!s:5} {r['nodes']:7d} nodes "
-                  f"{r['entries']:7d} entries, {len(model.pairs.a)} pairs: {text}; "
+                  f"{r['entries']:7d} entries ({skipped:.0%} skipped, {touching:.0%} in "
+                  f"contact), {len(model.pairs.a)} pairs: {text}; "
                   f"CPU/wall {c / w:.2f}")  # fmt: skip
         ratio = walls[False] / walls[True]
         print(f"  h={spacing:.2f} mm: serial / parallel step wall time {ratio:.2f} "
               f"({numba.get_num_threads()} threads, layer {numba.threading_layer()})")  # fmt: skip
 
 
-def full_run(disc: dict) -> dict:
+def full_run(disc: dict, reference: str | None) -> dict:
     wall0, cpu0 = time.perf_counter(), time.process_time()
     res, _ = run_panel(5, 2.5, tis_panel_k_def(5), disc)
     wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
@@ -145,7 +160,28 @@ def full_run(disc: dict) -> dict:
         f"counted)"
     )
     print(f"  peak load {res.peak_load:.2f} N at {res.deflection_at_peak / MM:.3f} mm")
+    if reference is not None:
+        compare_curve(res, reference)
     return {"steps": steps, "wall": wall}
+
+
+def compare_curve(res, path: str) -> None:
+    """Write the run's records to ``path``, or compare them exactly with the ones there."""
+    curve = {name: getattr(res, name) for name in CURVE}
+    if not os.path.exists(path):
+        np.savez(path, **curve)
+        print(f"  curve written to {path} (the reference for later runs)")
+        return
+    ref = np.load(path)
+    differ = [name for name in CURVE if not np.array_equal(ref[name], curve[name])]
+    if differ:
+        print(f"  curve DIFFERS from {path} in {', '.join(differ)}")
+    else:
+        print(f"  curve identical to {path}, bit for bit ({', '.join(CURVE)})")
+
+
+CURVE = ("delta", "load", "block_pos", "block_quat", "kinetic", "elastic")
+"""Records of the full run compared with ``--reference``."""
 
 
 def seed_resolution(steps: int, full: bool) -> None:
@@ -181,10 +217,11 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true", help="coarse full run")
     parser.add_argument("--seed-full", action="store_true", help="run the seed resolution")
+    parser.add_argument("--reference", help="npz of the full run's curve: write, or compare")
     args = parser.parse_args()
     print(f"load average {os.getloadavg()} on {os.cpu_count()} cores (shared machine)")
     print_step_costs((1.0, 0.5, 0.25))
-    run = full_run(QUICK if args.quick else CONVERGED)
+    run = full_run(QUICK if args.quick else CONVERGED, args.reference)
     seed_resolution(run["steps"], args.seed_full)
     print(f"load average at the end {os.getloadavg()}")
 

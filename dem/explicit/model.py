@@ -8,11 +8,13 @@ that evolves; drivers advance it, snapshot and restore it, and checkpoints hold 
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import os
 import time
 
+import numba
 import numpy as np
 import scipy.sparse
 import scipy.sparse.csgraph
@@ -40,7 +42,7 @@ from dem.explicit.state import (
 )
 from dem.explicit.timestep import choose_time_step, highest_frequency
 from dem.explicit.unmodelled import UnmodelledContactError, block_hulls, worst_overlap
-from dem.kernels.broadphase import build_pairs, carry_history, single_faces
+from dem.kernels.broadphase import build_pairs, carry_history, near_faces
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
     MU_RULE_MIN,
@@ -290,10 +292,12 @@ class ExplicitModel:
         contacts = self.state.contacts
         rot_build = np.zeros((self.n_blocks, 3, 3))
         quat_to_rot(contacts.quat_build, rot_build)
-        single = np.empty(self.n_entries, dtype=np.int64)
-        single_faces(self.surface, contacts.node, contacts.block, contacts.pos_build, rot_build,
-                     self.bodies, self.shapes, self.settings.margin, single)  # fmt: skip
-        self.pairs = PairFrames.of_list(self.surface.block, contacts, single, self.n_blocks,
+        # face positions as int16 (less memory per entry) unless a block has more faces
+        narrow = np.diff(self.shapes.face_ptr).max(initial=0) < 2**15
+        near = np.empty((self.n_entries, 2), dtype=np.int16 if narrow else np.int64)
+        near_faces(self.surface, contacts.node, contacts.block, contacts.pos_build, rot_build,
+                   self.bodies, self.shapes, self.settings.margin, near)  # fmt: skip
+        self.pairs = PairFrames.of_list(self.surface.block, contacts, near, self.n_blocks,
                                         self.shapes.face_ptr)  # fmt: skip
 
     # -- loads, motion measures, state ---------------------------------------------------------
@@ -453,12 +457,12 @@ class ExplicitModel:
             )
         left = int(n_steps)
         while left > 0:
-            done, status, self.state.t = run_steps(
-                left, self.dt, self.state.t, alpha, self.settings.local_damping, self.parallel,
-                self.bodies, self.shapes,
-                self.surface, self.law, self.state.motion, self.state.contacts, self.scratch,
-                self.pairs, sphere, acc,
-            )  # fmt: skip
+            with _dynamic_schedule(self.parallel):
+                done, status, self.state.t = run_steps(
+                    left, self.dt, self.state.t, alpha, self.settings.local_damping,
+                    self.parallel, self.bodies, self.shapes, self.surface, self.law,
+                    self.state.motion, self.state.contacts, self.scratch, self.pairs, sphere, acc,
+                )  # fmt: skip
             left -= done
             if status == STATUS_NOT_FINITE:
                 raise SimulationError(
@@ -534,6 +538,23 @@ class ExplicitModel:
             f"fastest: {listed}. A block that keeps drifting is not held (a mechanism under "
             "gravity, or a scene that stands only marginally: see limit.stands)"
         )
+
+
+@contextlib.contextmanager
+def _dynamic_schedule(active: bool):
+    """With ``active``, numba's parallel loops hand their iterations (the node loop's chunks)
+    to the threads one at a time as they finish, instead of in equal shares decided up front:
+    chunks differ in cost (separated entries are skipped) and on a shared machine a thread can
+    lose its core for a while. Each chunk sums into its own buffer, so results do not depend on
+    the schedule. (Set from Python: set in the kernel, numba would not cache it.)"""
+    if not active:
+        yield
+        return
+    previous = numba.set_parallel_chunksize(1)
+    try:
+        yield
+    finally:
+        numba.set_parallel_chunksize(previous)
 
 
 def _bodies(scene: Scene, settings: ExplicitSettings) -> Bodies:

@@ -196,12 +196,14 @@ class PairFrames(NamedTuple):
 
     Attributes
     ----------
-    entry : (m,) int64
-        Pair of each entry.
-    single_face : (m,) int64
-        The only face of ``b`` that can be the entry's nearest plane until the next rebuild,
-        by its position among ``b``'s faces, or -1 (several can;
-        :func:`dem.kernels.broadphase.single_faces`).
+    run_ptr : (r + 1,) int64
+        Runs of consecutive entries of one pair: entries ``run_ptr[k]:run_ptr[k + 1]``
+        belong to pair ``run_pair[k]`` (r,) int64 (entries stay in the list's order, by node,
+        so a pair can have several runs; the loop handles a pair's data once per run).
+    near_faces : (m, 2) int16 (int64 when a block has 2**15 faces or more)
+        The one or two faces of ``b`` that can be the entry's nearest plane until the next
+        rebuild, by their position among ``b``'s faces, in face order; the second -1 when one
+        can, both -1 when more than two can (:func:`dem.kernels.broadphase.near_faces`).
     a, b : (p,) int64
         Node block and neighbour block of each pair.
     face_ptr : (p + 1,) int64
@@ -223,8 +225,9 @@ class PairFrames(NamedTuple):
         frame.
     """
 
-    entry: np.ndarray
-    single_face: np.ndarray
+    run_ptr: np.ndarray
+    run_pair: np.ndarray
+    near_faces: np.ndarray
     a: np.ndarray
     b: np.ndarray
     face_ptr: np.ndarray
@@ -238,7 +241,7 @@ class PairFrames(NamedTuple):
     face_d: np.ndarray
 
     @classmethod
-    def of_list(cls, node_block: np.ndarray, contacts: Contacts, single_face: np.ndarray,
+    def of_list(cls, node_block: np.ndarray, contacts: Contacts, near_faces: np.ndarray,
                 n_blocks: int, face_ptr: np.ndarray) -> PairFrames:  # fmt: skip
         """The pairs of a neighbour list (frames zero until the next step).
 
@@ -247,7 +250,7 @@ class PairFrames(NamedTuple):
         node_block : (n_nodes,) int64
             Owner block of each node.
         contacts : Contacts
-        single_face : (m,) int64
+        near_faces : (m, 2) int16 (int64 when a block has 2**15 faces or more)
             See the class.
         n_blocks : int
         face_ptr : (n_blocks + 1,) int64
@@ -255,11 +258,14 @@ class PairFrames(NamedTuple):
         """
         key = node_block[contacts.node] * n_blocks + contacts.block
         keys, entry = np.unique(key, return_inverse=True)
+        entry = entry.reshape(-1)
+        starts = np.flatnonzero(np.diff(entry, prepend=-1))
         a, b = keys // n_blocks, keys % n_blocks
         count = np.diff(face_ptr)[b]
         p, pf = len(keys), int(count.sum())
         return cls(
-            entry.astype(np.int64).reshape(-1), single_face, a.astype(np.int64),
+            np.append(starts, len(entry)).astype(np.int64), entry[starts].astype(np.int64),
+            near_faces, a.astype(np.int64),
             b.astype(np.int64),
             np.concatenate([[0], np.cumsum(count)]).astype(np.int64),
             np.zeros((p, 3)), np.zeros((p, 3)), np.zeros((p, 3)), np.zeros((p, 3, 3)),

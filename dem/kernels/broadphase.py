@@ -191,21 +191,23 @@ def needs_rebuild(pos, quat, pos_build, quat_build, radius, margin):
 
 FACE_GAP_MARGINS = 3.0
 """A face whose plane distance is this many margins below the nearest plane's at the build
-cannot become the nearest before the next rebuild (see :func:`single_faces`)."""
+cannot become the nearest before the next rebuild (see :func:`near_faces`)."""
 
 
 @njit(cache=True)
-def single_faces(nodes, entry_node, entry_block, pos_build, rot_build, bodies, shapes, margin,
-                 out):  # fmt: skip
-    """The one face of the neighbour that can be a node's nearest plane until the next rebuild.
+def near_faces(nodes, entry_node, entry_block, pos_build, rot_build, bodies, shapes, margin,
+               out):  # fmt: skip
+    """The one or two faces of the neighbour that can be a node's nearest plane until the next
+    rebuild.
 
     Until the list is rebuilt every block moves less than ``margin / 2`` (any point within its
     bounding radius, :func:`needs_rebuild`), so an entry's node moves less than ``1.5 margin``
     in its neighbour's reference frame (the neighbour's material point under the node is
     within ``radius + margin`` of its centroid) and each plane distance changes by less than
     that. A face whose distance at the build is more than ``FACE_GAP_MARGINS * margin`` below
-    the largest can then never be the largest: when every face but one is that far below,
-    the convex signed distance is that one plane's distance, exactly, for the whole period.
+    the largest can then never be the largest: the convex signed distance is the largest of
+    the other faces' distances, exactly, for the whole period, and its maximising face is the
+    first of them in face order to reach it (no excluded face ties with it).
 
     Parameters
     ----------
@@ -219,9 +221,10 @@ def single_faces(nodes, entry_node, entry_block, pos_build, rot_build, bodies, s
     bodies, shapes : Bodies, Shapes
     margin : float
         [m].
-    out : (m,) int64
-        Written: the face's position among the neighbour's faces (0 for its first face), or
-        -1 when several faces are candidates.
+    out : (m, 2) int16 (or wider)
+        Written: the candidate faces by their position among the neighbour's faces (0 for its
+        first face), in face order; ``out[e, 1] = -1`` when there is one, both -1 when there
+        are more than two.
     """
     face_ptr, face_normal, face_offset = shapes.face_ptr, shapes.face_normal, shapes.face_offset
     ref_centroid = bodies.ref_centroid
@@ -236,9 +239,10 @@ def single_faces(nodes, entry_node, entry_block, pos_build, rot_build, bodies, s
         X0 = rb[0, 0] * dx + rb[1, 0] * dy + rb[2, 0] * dz + ref_centroid[b, 0]
         X1 = rb[0, 1] * dx + rb[1, 1] * dy + rb[2, 1] * dz + ref_centroid[b, 1]
         X2 = rb[0, 2] * dx + rb[1, 2] * dy + rb[2, 2] * dz + ref_centroid[b, 2]
-        best, f = convex_sdf_one(X0, X1, X2, face_normal, face_offset, face_ptr[b],
+        best, _ = convex_sdf_one(X0, X1, X2, face_normal, face_offset, face_ptr[b],
                                  face_ptr[b + 1])  # fmt: skip
-        out[e] = f - face_ptr[b]
+        out[e, 0] = out[e, 1] = -1
+        n_near = 0
         for g in range(face_ptr[b], face_ptr[b + 1]):
             dist = (
                 face_normal[g, 0] * X0
@@ -246,6 +250,9 @@ def single_faces(nodes, entry_node, entry_block, pos_build, rot_build, bodies, s
                 + face_normal[g, 2] * X2
                 - face_offset[g]
             )
-            if g != f and dist >= best - gap:
-                out[e] = -1
-                break
+            if dist >= best - gap:
+                if n_near < 2:
+                    out[e, n_near] = g - face_ptr[b]
+                n_near += 1
+        if n_near > 2:
+            out[e, 0] = out[e, 1] = -1

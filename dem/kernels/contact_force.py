@@ -46,7 +46,7 @@ def pair_mu(mu_a, mu_b, rule):
     return 0.5 * (mu_a + mu_b)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, beta, dt):
     """Contact law of one node: normal penalty with dashpot and regularised Coulomb friction.
 
@@ -208,7 +208,8 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
         block's top plane and far below its end face). A ``compat_cos``
         above 1 switches this off: nearest plane always, the exact convex signed distance,
         which gives a node on an edge shared with ``b`` the depth ``min(d_c, -delta)``,
-        about zero, so a hinge along such an edge carries nothing there.
+        about zero, so a hinge along such an edge carries nothing there; only the one or two
+        faces of ``pairs.near_faces`` are tested when the entry has them (the same result).
     dt : float
         Time step [s].
     scratch : Scratch
@@ -216,7 +217,8 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
         penetration ``d`` [m] (negative: separation, lower bound); ``skip_gap``,
         ``skip_drift`` (m,) and ``drift`` (n,) [m]: see Notes.
     pairs : PairFrames
-        The entries' block pairs with the frames of :func:`pair_frames`.
+        The entries' block pairs with the frames of :func:`pair_frames`; the entries are
+        handled run by run (``run_ptr``), a range may start and end inside a run.
     record : bool
         Also write ``scratch.out_force`` (force on the node's block [N]) and
         ``scratch.out_point`` (the node [m]) of every evaluated entry.
@@ -238,93 +240,120 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
     shear history are zero meanwhile, as an evaluation would give: the result is exactly that
     of evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated
     values). Level sets are not a distance bound: no skipping there.
+
+    One function on purpose (numba 0.68): the loop over a run's entries inlined from a helper
+    taking the state's tuples paid about 80 reference counts per run, and a plane choice
+    inlined from a helper with early returns made every entry 1.5 times slower
+    (``benchmarks/bench_explicit.py``).
     """
     pair_node, pair_weight, pair_shear = contacts.node, contacts.weight, contacts.shear
     node_r0, node_n0, node_area = nodes.r0, nodes.n0, nodes.area
-    rot, block_mu = scratch.rot, bodies.block_mu
-    entry_pair, pair_a, pair_b, face_ptr = pairs.entry, pairs.a, pairs.b, pairs.face_ptr
-    single_face = pairs.single_face
+    rot, drift, block_mu = scratch.rot, scratch.drift, bodies.block_mu
+    run_ptr, run_pair, near_faces = pairs.run_ptr, pairs.run_pair, pairs.near_faces
     face_v, face_u, face_d = pairs.face_v, pairs.face_u, pairs.face_d
-    rel_vel, rel_omega, to_b, shift = pairs.vel, pairs.omega, pairs.to_b, pairs.shift
-    use_level_set = shapes.use_level_set
-    out_force, out_point, pos = scratch.out_force, scratch.out_point, motion.pos
-    k_n, k_t, beta, mu_rule = law.k_n, law.k_t, law.beta, law.mu_rule
+    use_level_set, k_n, k_t, beta = shapes.use_level_set, law.k_n, law.k_t, law.beta
     compat_cos, margin = law.compat_cos, law.margin
-    out_depth, skip_gap, skip_drift, drift = (
-        scratch.out_depth, scratch.skip_gap, scratch.skip_drift, scratch.drift
-    )  # fmt: skip
-    for e in range(e_begin, e_end):
-        q = entry_pair[e]
-        a = pair_a[q]
-        b = pair_b[q]
-        gap = skip_gap[e]
-        if gap > 0.0 and drift[a] + drift[b] - skip_drift[e] < gap:
-            continue  # still separated: its force and shear history are zero (see Notes)
-        i = pair_node[e]
-        r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
-        if use_level_set:
-            phi, n0, n1, n2 = _level_set_plane(r0x, r0y, r0z, q, b, to_b, shift, rot, shapes)
-            bound = 0.0
-        else:
-            if compat_cos <= 1.0:
-                phi, f, bound = _compatible_plane(
-                    r0x, r0y, r0z, node_n0[i, 0], node_n0[i, 1], node_n0[i, 2], face_v, face_d,
-                    face_ptr[q], face_ptr[q + 1], compat_cos, margin,
-                )  # fmt: skip
-            elif single_face[e] >= 0:
-                f = face_ptr[q] + single_face[e]
-                phi = face_v[f, 0] * r0x + face_v[f, 1] * r0y + face_v[f, 2] * r0z - face_d[f]
-                bound = phi
+    out_depth, skip_gap, skip_drift = scratch.out_depth, scratch.skip_gap, scratch.skip_drift
+    out_force, out_point, pos = scratch.out_force, scratch.out_point, motion.pos
+    k = np.searchsorted(run_ptr, e_begin, side="right") - 1  # the run holding e_begin
+    e_run = e_begin
+    while e_run < e_end:
+        # one run of entries of pair q: its data once (the same arithmetic as per entry)
+        q = run_pair[k]
+        e_stop = min(run_ptr[k + 1], e_end)
+        a, b = pairs.a[q], pairs.b[q]
+        f_begin, f_end = pairs.face_ptr[q], pairs.face_ptr[q + 1]
+        drift_ab = drift[a] + drift[b]
+        r00, r01, r02 = rot[a, 0, 0], rot[a, 0, 1], rot[a, 0, 2]
+        r10, r11, r12 = rot[a, 1, 0], rot[a, 1, 1], rot[a, 1, 2]
+        r20, r21, r22 = rot[a, 2, 0], rot[a, 2, 1], rot[a, 2, 2]
+        v0, v1, v2 = pairs.vel[q, 0], pairs.vel[q, 1], pairs.vel[q, 2]
+        w0, w1, w2 = pairs.omega[q, 0], pairs.omega[q, 1], pairs.omega[q, 2]
+        mu = pair_mu(block_mu[a], block_mu[b], law.mu_rule)
+        s_f0, s_f1, s_f2 = sums[q, 0], sums[q, 1], sums[q, 2]
+        s_m0, s_m1, s_m2 = sums[q, 3], sums[q, 4], sums[q, 5]
+        # unsigned indices: numba wraps negative signed ones, a compare and a select per access
+        for e in range(np.uint64(e_run), np.uint64(e_stop)):
+            gap = skip_gap[e]
+            if gap > 0.0 and drift_ab - skip_drift[e] < gap:
+                continue  # still separated: its force and shear history are zero (see Notes)
+            i = np.uint64(pair_node[e])
+            r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
+            if use_level_set:
+                phi, n0, n1, n2 = _level_set_plane(r0x, r0y, r0z, q, b, pairs.to_b,
+                                                   pairs.shift, rot, shapes)  # fmt: skip
+                bound = 0.0
             else:
-                phi, f = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, face_ptr[q],
-                                        face_ptr[q + 1])  # fmt: skip
-                bound = phi
-            n0, n1, n2 = face_u[f, 0], face_u[f, 1], face_u[f, 2]
-        out_depth[e] = -phi
-        touching = phi < 0.0 and pair_weight[e] != 0.0
-        if not touching:
-            pair_shear[e, 0] = 0.0
-            pair_shear[e, 1] = 0.0
-            pair_shear[e, 2] = 0.0
-            if not use_level_set and bound > 0.0:
-                skip_gap[e] = bound
-                skip_drift[e] = drift[a] + drift[b]
-            if not record:
-                continue
-        else:
-            skip_gap[e] = 0.0
-        rx = rot[a, 0, 0] * r0x + rot[a, 0, 1] * r0y + rot[a, 0, 2] * r0z
-        ry = rot[a, 1, 0] * r0x + rot[a, 1, 1] * r0y + rot[a, 1, 2] * r0z
-        rz = rot[a, 2, 0] * r0x + rot[a, 2, 1] * r0y + rot[a, 2, 2] * r0z
-        f0 = f1 = f2 = 0.0
-        if touching:
-            # relative velocity of a's material point against b's material point at x
-            vr0 = rel_vel[q, 0] + rel_omega[q, 1] * rz - rel_omega[q, 2] * ry
-            vr1 = rel_vel[q, 1] + rel_omega[q, 2] * rx - rel_omega[q, 0] * rz
-            vr2 = rel_vel[q, 2] + rel_omega[q, 0] * ry - rel_omega[q, 1] * rx
-            mu = pair_mu(block_mu[a], block_mu[b], mu_rule)
-            t0, t1, t2, s0, s1, s2 = traction_one(
-                -phi, n0, n1, n2, vr0, vr1, vr2, pair_shear[e, 0], pair_shear[e, 1],
-                pair_shear[e, 2], k_n, k_t, mu, beta, dt,
-            )  # fmt: skip
-            pair_shear[e, 0] = s0
-            pair_shear[e, 1] = s1
-            pair_shear[e, 2] = s2
-            area = node_area[i] * pair_weight[e]
-            f0, f1, f2 = t0 * area, t1 * area, t2 * area
-            sums[q, 0] += f0
-            sums[q, 1] += f1
-            sums[q, 2] += f2
-            sums[q, 3] += ry * f2 - rz * f1
-            sums[q, 4] += rz * f0 - rx * f2
-            sums[q, 5] += rx * f1 - ry * f0
-        if record:
-            out_force[e, 0] = f0
-            out_force[e, 1] = f1
-            out_force[e, 2] = f2
-            out_point[e, 0] = pos[a, 0] + rx
-            out_point[e, 1] = pos[a, 1] + ry
-            out_point[e, 2] = pos[a, 2] + rz
+                if compat_cos <= 1.0:
+                    phi, f_c, bound = _compatible_plane(
+                        r0x, r0y, r0z, node_n0[i, 0], node_n0[i, 1], node_n0[i, 2], face_v,
+                        face_d, f_begin, f_end, compat_cos, margin,
+                    )  # fmt: skip
+                    f = np.uint64(f_c)
+                elif near_faces[e, 0] >= 0:
+                    f = np.uint64(f_begin + near_faces[e, 0])
+                    phi = face_v[f, 0] * r0x + face_v[f, 1] * r0y + face_v[f, 2] * r0z - face_d[f]
+                    if near_faces[e, 1] >= 0:
+                        # the later face wins only when strictly larger, as in the full scan
+                        g = np.uint64(f_begin + near_faces[e, 1])
+                        dist = (
+                            face_v[g, 0] * r0x + face_v[g, 1] * r0y + face_v[g, 2] * r0z
+                            - face_d[g]
+                        )  # fmt: skip
+                        if dist > phi:
+                            phi, f = dist, g
+                    bound = phi
+                else:
+                    phi, f_c = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, f_begin, f_end)
+                    f = np.uint64(f_c)
+                    bound = phi
+                n0, n1, n2 = face_u[f, 0], face_u[f, 1], face_u[f, 2]
+            out_depth[e] = -phi
+            touching = phi < 0.0 and pair_weight[e] != 0.0
+            if not touching:
+                pair_shear[e, 0] = 0.0
+                pair_shear[e, 1] = 0.0
+                pair_shear[e, 2] = 0.0
+                if not use_level_set and bound > 0.0:
+                    skip_gap[e] = bound
+                    skip_drift[e] = drift_ab
+                if not record:
+                    continue
+            else:
+                skip_gap[e] = 0.0
+            rx = r00 * r0x + r01 * r0y + r02 * r0z
+            ry = r10 * r0x + r11 * r0y + r12 * r0z
+            rz = r20 * r0x + r21 * r0y + r22 * r0z
+            f0 = f1 = f2 = 0.0
+            if touching:
+                # relative velocity of a's material point against b's material point at x
+                t0, t1, t2, s0, s1, s2 = traction_one(
+                    -phi, n0, n1, n2, v0 + w1 * rz - w2 * ry, v1 + w2 * rx - w0 * rz,
+                    v2 + w0 * ry - w1 * rx, pair_shear[e, 0], pair_shear[e, 1],
+                    pair_shear[e, 2], k_n, k_t, mu, beta, dt,
+                )  # fmt: skip
+                pair_shear[e, 0] = s0
+                pair_shear[e, 1] = s1
+                pair_shear[e, 2] = s2
+                area = node_area[i] * pair_weight[e]
+                f0, f1, f2 = t0 * area, t1 * area, t2 * area
+                s_f0 += f0
+                s_f1 += f1
+                s_f2 += f2
+                s_m0 += ry * f2 - rz * f1
+                s_m1 += rz * f0 - rx * f2
+                s_m2 += rx * f1 - ry * f0
+            if record:
+                out_force[e, 0] = f0
+                out_force[e, 1] = f1
+                out_force[e, 2] = f2
+                out_point[e, 0] = pos[a, 0] + rx
+                out_point[e, 1] = pos[a, 1] + ry
+                out_point[e, 2] = pos[a, 2] + rz
+        sums[q, 0], sums[q, 1], sums[q, 2] = s_f0, s_f1, s_f2
+        sums[q, 3], sums[q, 4], sums[q, 5] = s_m0, s_m1, s_m2
+        e_run = e_stop
+        k += 1
 
 
 @njit(cache=True)

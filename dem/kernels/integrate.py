@@ -87,7 +87,7 @@ def _sign(x):
     return 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def advance_block_one(i, dt, alpha, local_damping, bodies, motion, scratch):
     """Advance one free block by one step (see the module docstring).
 

@@ -18,7 +18,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def convex_sdf_one(x0, x1, x2, face_normal, face_offset, f_begin, f_end):
     """Signed distance of one point to one convex block from its face planes.
 
