@@ -14,8 +14,15 @@ of block b with respect to block a (see :mod:`dem.geometry.compatibility`).
   assembly arches). Seed 001's Eq. (13) (elastic up to the limit, then ``k_r = 0``) let the
   joint turn about its centroid with no lift: a restrained 3 x 13 dry panel collapsed at a
   fifth of the fibre law's and the explicit DEM's load. A joint open over its whole area is
-  detached (Eq. 13): no action; a mortared joint (``f_t > 0``) is then broken for good and
-  behaves as a dry joint (``f_t = c = 0``). No memory: a dry joint recloses elastically.
+  detached (Eq. 13): no action. No memory: a dry joint recloses elastically.
+- bond: a mortared joint (``f_t > 0`` or ``c > 0``) cracks when its tensile cap covers half
+  its area (``STATE_FLEXURE``: it rocks; at ``N = 0`` that is 2/3 of Eq. 9's limit, twice
+  the elastic cracking moment) or the whole of it. Its tensile strength and cohesion are then
+  lost for good, in the trial that cracks it already (the dry joint's response at the same
+  motion, like the fibre law's brittle springs), and it behaves as a dry no-tension Coulomb
+  joint from then on. Held at the cap for ever (the seed's perfectly plastic Eq. 9), a
+  rocking mortared joint hardened towards the uniform tensile block without end: 4 of seed
+  001's 6 Chee Liang walls rose at 0.04-0.26 % of their initial slope after 400 steps.
 - shear and torsion (Eqs. 10, 12, 14, A5): elastic ``V = k_t A w``, ``M3' = k_t J_p theta``
   with ``w`` the elastic slip at the centre of compression ``y_c`` (where ``N`` acts) and
   ``theta`` the elastic twist, within
@@ -108,7 +115,7 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
         Plastic part at the last converged state: slips ``qp[1:3]`` and twist ``qp[5]`` at the
         centroid (``qp[0], qp[3], qp[4]`` unused, 0) [m, rad].
     is_broken : bool
-        Tensile strength and cohesion already lost.
+        Tensile strength and cohesion already lost (the joint cracked earlier).
     params : (N_PARAMS,) float64
         The interface's parameters, columns ``P_*``: elastic stiffnesses
         ``(k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)`` [N/m, N m/rad]; tensile strength
@@ -128,18 +135,23 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
     Returns
     -------
     is_broken : bool
+        Whether the bond is lost: before, or cracked by this motion (module notes).
     state : int
         Bit set of ``STATE_SHEAR``, ``STATE_FLEXURE``, ``STATE_CRUSHED``, or
         ``STATE_DETACHED``.
     """
     k = params[P_K : P_K + 6]
-    ft = params[P_FT]
-    c = params[P_COHESION]
-    if is_broken:
-        ft = 0.0
-        c = 0.0
+    bonded = not is_broken and (params[P_FT] > 0.0 or params[P_COHESION] > 0.0)
+    ft = params[P_FT] if bonded else 0.0
+    c = params[P_COHESION] if bonded else 0.0
     out_D[:, :] = 0.0
     state = normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D)
+    if bonded and state & (STATE_FLEXURE | STATE_DETACHED):
+        # cracked (module notes): the bond is lost for good, the dry joint answers already
+        is_broken = True
+        ft = c = 0.0
+        out_D[:, :] = 0.0
+        state = normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D)
     if state == STATE_DETACHED:
         # detachment (Eq. 13): no action; the slips follow the motion so that re-contact
         # starts unloaded
@@ -147,7 +159,7 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
             out_f[i] = 0.0
             out_qp[i] = q[i]
             out_D[i, i] = floor * k[i]
-        return is_broken or params[P_FT] > 0.0, STATE_DETACHED
+        return is_broken, STATE_DETACHED
     state |= shear_and_torsion(q, qp, params, c, ft - out_f[0], floor, out_f, out_qp, out_D)
     return is_broken, state
 
