@@ -61,6 +61,8 @@ class JointArrays:
         Compressive strength [Pa]; inf for none.
     kn, kt, kr : float
         Stiffness per unit area [Pa/m].
+    extent : float
+        Largest side of the model's bounding box [m]: the scale of its round-off in gaps.
     """
 
     area: np.ndarray
@@ -73,6 +75,7 @@ class JointArrays:
     kn: float
     kt: float
     kr: float
+    extent: float
 
     @property
     def n(self) -> int:
@@ -269,6 +272,7 @@ class FibreLaw(_Committed):
         params[:, fk.F_COHESION] = joints.cohesion
         params[:, fk.F_TENSILE] = joints.tensile
         params[:, fk.F_FC] = joints.compressive
+        params[:, fk.F_TOUCH] = fk.TOUCH * joints.extent
         self.params = np.ascontiguousarray(params)
         n_springs = len(self.springs)
         # slips and crushing closures (n_springs, 3), broken flags (n_springs,)
