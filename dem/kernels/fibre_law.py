@@ -21,18 +21,18 @@ step shrink (a dry wall with a fixed column crept in steps of 0.05 first increme
 iterations each). The forces are those of the return map; only the tangent changes.
 
 Ties at zero gaps are decided the same way whatever the round-off, with ``touch`` =
-``TOUCH`` (1e-12) times the model's extent (a parameter column): a spring is open only beyond
-a gap of ``touch`` (a touching spring at a positive gap keeps its tiny elastic tension, at
-most ``k_n touch`` per unit area), takes no friction from a normal force within ``k_n touch``,
-and sticks while its trial slip exceeds its friction limit by at most ``touch``
-(:func:`dem.kernels.spring_grid.spring_return_map_one`); a sliding spring takes the direction
-of its friction force from its trial slip, so that its tangent couples the limit to the
-normal motion (``-mu k_n``) also where the limit is zero. After the dead load of seed 001
-S13 (return walls of blocks) 21 joints carried nothing, their relative motions of round-off
-size (1e-20 m): their springs opened or closed and slid in round-off directions, differently
-under each OpenBLAS kernel, and so did their tangents, the elastic stiffness that sizes the
-first live step (0.16 % apart) and the frictional equilibrium the path then found (lambda
-0.1780 / 0.1834 / 0.1829 under Haswell / SkylakeX / Sandybridge).
+``TOUCH`` (1e-12, :mod:`dem.kernels.interface_law`) times the model's extent (a parameter
+column): a spring is open only beyond a gap of ``touch`` (a touching spring at a positive gap
+keeps its tiny elastic tension, at most ``k_n touch`` per unit area), takes no friction from
+a normal force within ``k_n touch``, and sticks while its trial slip exceeds its friction
+limit by at most ``touch`` (:func:`dem.kernels.spring_grid.spring_return_map_one`); a sliding
+spring takes the direction of its friction force from its trial slip, so that its tangent
+couples the limit to the normal motion (``-mu k_n``) also where the limit is zero. After the
+dead load of seed 001 S13 (return walls of blocks) 21 joints carried nothing, their relative
+motions of round-off size (1e-20 m): their springs opened or closed and slid in round-off
+directions, differently under each OpenBLAS kernel, and so did their tangents, the elastic
+stiffness that sizes the first live step (0.16 % apart) and the frictional equilibrium the
+path then found (lambda 0.1780 / 0.1834 / 0.1829 under Haswell / SkylakeX / Sandybridge).
 """
 
 import numpy as np
@@ -62,7 +62,6 @@ F_TENSILE = 4  # tensile strength [Pa]
 F_FC = 5  # compressive strength [Pa]; inf for none
 F_TOUCH = 6  # gap up to which a spring counts as touching [m] (module notes)
 N_FIBRE_PARAMS = 7
-TOUCH = 1e-12  # the touching gap as a fraction of the model's extent (module notes)
 
 
 @njit(cache=True)

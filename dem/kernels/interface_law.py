@@ -49,6 +49,16 @@ as elastic (seed 001 S11), the first Newton iterate of every step used their ela
 overshot, and the iteration cycled between states until the path-following stalled. In the
 band the action is the limit itself, so only the tangent changes: the one of continued plastic
 flow, which the next iterate corrects if the joint unloads.
+
+Ties at zero gaps are decided the same way whatever the round-off, with the touching gap
+``touch`` = ``TOUCH`` (1e-12) times the model's extent (a parameter column), as in the fibre
+law (:mod:`dem.kernels.fibre_law`): a point of the joint opens only beyond it (its trial
+stress above the cap by ``k_n touch``), a normal force within ``k_n touch A`` gives no
+friction and no centre of compression, and a dry joint whose elastic slip and twist stay
+below it is unloaded (elastic tangent). After the dead load of seed 001 S13 and S5 (return
+walls of blocks) 75 joints carried nothing, their relative motions of round-off size
+(1e-20 m): their states and tangents differed between OpenBLAS kernels (up to half the
+largest entry), and with them the first live step (0.4 % on S13).
 """
 
 import math
@@ -66,6 +76,7 @@ STATE_DETACHED = 4  # the whole interface is open (exclusive)
 STATE_CRUSHED = 8  # bit: the compressive strength is reached
 KINK_BAND = 1e-9  # relative band below a limit that already counts as yielding (module notes)
 OPEN_BAND = 1e-12  # relative open area above which a joint counts as detached
+TOUCH = 1e-12  # gaps below this fraction of the model's extent count as touching (notes)
 
 # columns of the per-interface parameter rows of the resultant law
 P_K = 0  # 0:6  elastic stiffnesses (k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)
@@ -77,8 +88,9 @@ P_ALPHA = 11  # exponent of Eq. (A5) [-]
 P_FC = 12  # compressive strength f_c [Pa]; inf for none
 P_AREA = 13  # area A [m^2]
 P_STIFF = 14  # 14:16 (k_n, k_r) per unit area [Pa/m]
-P_N_CORNERS = 16  # corners of the joint polygon
-P_POLY = 17  # 17:17 + 2 MAX_VERTICES corners (y1, y2) about the centroid, CCW [m]
+P_TOUCH = 16  # gap up to which a joint counts as touching [m] (module notes)
+P_N_CORNERS = 17  # corners of the joint polygon
+P_POLY = 18  # 18:18 + 2 MAX_VERTICES corners (y1, y2) about the centroid, CCW [m]
 N_PARAMS = P_POLY + 2 * MAX_VERTICES
 NORMAL_ROWS = (0, 3, 4)  # the components (dn, phi1, phi2) the normal force depends on
 
@@ -121,8 +133,9 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
         ``(k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)`` [N/m, N m/rad]; tensile strength
         and cohesion forces ``sigma_t A``, ``c A`` [N]; friction coefficient [-]; extents
         ``(l1, l2)`` along ``t1, t2`` [m]; exponent of Eq. (A5) [-]; compressive strength [Pa]
-        (inf for none); area [m^2]; ``(k_n, k_r)`` per unit area [Pa/m]; the number of corners
-        and the corners ``(y1, y2)`` of the joint polygon about its centroid, CCW [m].
+        (inf for none); area [m^2]; ``(k_n, k_r)`` per unit area [Pa/m]; the touching gap
+        [m]; the number of corners and the corners ``(y1, y2)`` of the joint polygon about its
+        centroid, CCW [m].
     floor : float
         Fraction of the elastic stiffness kept by yielded components of the tangent [-].
     out_f : (6,) float64
@@ -181,7 +194,7 @@ def normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D):
     poly = params[P_POLY : P_POLY + 2 * n].reshape((n, 2))
     f3 = np.empty(3)
     D3 = np.empty((3, 3))
-    strength = np.array((ft / area, params[P_FC]))
+    strength = np.array((ft / area, params[P_FC], params[P_STIFF] * params[P_TOUCH]))
     area_t, area_c = stress_resultants(
         np.array((q[0], q[3], q[4])), poly, n, params[P_STIFF : P_STIFF + 2], strength, f3, D3
     )
@@ -217,8 +230,10 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
     (:func:`normal_and_rocking`); writes rows 1, 2, 5; returns the state bits.
     """
     k = params[P_K : P_K + 6]
+    touch = params[P_TOUCH]
+    touch_force = params[P_STIFF] * touch * params[P_AREA]  # N of the touching gap
     centre, d_centre = np.zeros(2), np.zeros((2, 6))
-    compression_centre(out_f, out_D, cap, centre, d_centre)
+    compression_centre(out_f, out_D, cap, touch_force, centre, d_centre)
     # elastic slip at the centre and twist: V = k_t A w, M3' = k_t J_p theta
     theta = q[5] - qp[5]
     dv = np.zeros((2, 6))  # d V_trial / d q
@@ -230,17 +245,21 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
         dv[0, j] -= k[1] * theta * d_centre[1, j]
         dv[1, j] += k[2] * theta * d_centre[0, j]
     m_t = k[5] * theta
-    v_u = c - params[P_MU] * out_f[0]
+    # a touching joint (|N| within the touching gap's force) takes no friction from N
+    v_u = c - params[P_MU] * out_f[0] if abs(out_f[0]) > touch_force else c
+    dims = params[P_DIMS : P_DIMS + 2]
     if v_u <= 0.0:
-        # no friction capacity; an unloaded joint (a dry joint at N = 0) keeps its elastic
-        # tangent, so that the first iteration from the unloaded state sees it
-        unloaded = v1 == 0.0 and v2 == 0.0 and m_t == 0.0
+        # no friction capacity; an unloaded joint (a dry joint at N = 0, its elastic slip and
+        # twist below the touching gap) keeps its elastic tangent, so that the first
+        # iteration from the unloaded state sees it
+        unloaded = (
+            math.hypot(v1, v2) <= k[1] * touch and abs(theta) * max(dims[0], dims[1]) <= touch
+        )
         for i in (1, 2, 5):
             out_f[i] = 0.0
             out_qp[i] = qp[i] if unloaded else q[i]
             out_D[i, i] = k[i] if unloaded else floor * k[i]
         return STATE_ELASTIC if unloaded else STATE_SHEAR
-    dims = params[P_DIMS : P_DIMS + 2]
     reduced = (max(dims[0] - 2.0 * abs(centre[0]), 0.0), max(dims[1] - 2.0 * abs(centre[1]), 0.0))
     m_u = torsion_coefficient(reduced[0], reduced[1]) * v_u
     g = (v1 * v1 + v2 * v2) / (v_u * v_u)
@@ -272,11 +291,11 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
 
 
 @njit(cache=True)
-def compression_centre(f, D, cap, out, out_d):
+def compression_centre(f, D, cap, touch_force, out, out_d):
     """Centre of compression ``y_c = (M2, -M1) / cap`` [m] (where the compressive resultant
-    ``cap = f_t - N`` acts; 0 for ``cap <= 0``) into ``out`` (2,), and ``d y_c / d q`` from rows
-    0, 3, 4 of ``D`` into ``out_d`` (2, 6)."""
-    if cap <= 0.0:
+    ``cap = f_t - N`` acts; 0 for ``cap <= touch_force``, a joint barely touching) into ``out``
+    (2,), and ``d y_c / d q`` from rows 0, 3, 4 of ``D`` into ``out_d`` (2, 6)."""
+    if cap <= touch_force:
         return
     out[0], out[1] = f[4] / cap, -f[3] / cap
     for j in range(6):

@@ -179,6 +179,7 @@ class ResultantLaw(_Committed):
         params[:, rk.P_FC] = joints.compressive
         params[:, rk.P_AREA] = joints.area
         params[:, rk.P_STIFF : rk.P_STIFF + 2] = joints.kn, joints.kr
+        params[:, rk.P_TOUCH] = rk.TOUCH * joints.extent
         for k in range(m):
             params[k, rk.P_N_CORNERS :] = _corner_row(interfaces.local_polygon(k), k)
         self.params = np.ascontiguousarray(params)
@@ -272,7 +273,7 @@ class FibreLaw(_Committed):
         params[:, fk.F_COHESION] = joints.cohesion
         params[:, fk.F_TENSILE] = joints.tensile
         params[:, fk.F_FC] = joints.compressive
-        params[:, fk.F_TOUCH] = fk.TOUCH * joints.extent
+        params[:, fk.F_TOUCH] = rk.TOUCH * joints.extent
         self.params = np.ascontiguousarray(params)
         n_springs = len(self.springs)
         # slips and crushing closures (n_springs, 3), broken flags (n_springs,)
