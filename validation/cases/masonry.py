@@ -419,7 +419,7 @@ def run_restrepo(quick: bool = True):
         "(the resultant law stalls on S34). The dead load is applied in increments cut on "
         "failure (dem.static.dead_load): one Newton solve of it stalled on S23 with the "
         "resultant law and return walls of blocks under two of the three OpenBLAS kernels; "
-        "the increments carry it under all three (measured: lambda 0.1540 / 0.1539 / 0.1541 "
+        "the increments carry it under all three (measured: lambda 0.15404 / 0.15405 / 0.15400 "
         "under Haswell / SkylakeX / Sandybridge). "
         "Return walls built as blocks: the closest variant for both laws; the two-sided "
         "specimens are capped by the assumed 3-block return walls, which overturn "
