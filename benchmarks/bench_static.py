@@ -35,8 +35,9 @@ from pathlib import Path
 from dem.scenes.running_bond_wall import running_bond_wall
 from dem.scenes.seed001_walls import RESTREPO_NAMES, SPECIMENS, restrepo_specimen
 from dem.static import StaticSettings, StaticSolverError, solve_collapse
+from dem.static.dead_load import solve_dead_load
 from dem.static.model import Model
-from dem.static.newton import Corrector, factor, solve_dead_load
+from dem.static.newton import Corrector, factor
 
 TARGET_S = 10.0
 LAWS = ("resultant", "fibre")

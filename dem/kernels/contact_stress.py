@@ -97,8 +97,11 @@ def stress_resultants(motion, poly, n, stiffness, strength, out_f, out_D):
         Corners.
     stiffness : (2,) float64
         ``(k_n, k_r)`` per unit area [Pa/m].
-    strength : (2,) float64
-        ``(sigma_t, f_c)``: tensile and compressive strength [Pa] (``f_c = inf`` for none).
+    strength : (3,) float64
+        ``(sigma_t, f_c, sigma_touch)``: tensile and compressive strength [Pa] (``f_c = inf``
+        for none), and the stress ``k_n touch`` of the touching gap [Pa]: a point is capped
+        only where its trial stress exceeds ``sigma_t`` by more (a gap of round-off size does
+        not open it, whatever its sign; :mod:`dem.kernels.interface_law`).
     out_f : (3,) float64
         Output ``(N, M1, M2)`` [N, N m].
     out_D : (3, 3) float64
@@ -118,7 +121,7 @@ def stress_resultants(motion, poly, n, stiffness, strength, out_f, out_D):
     m_t = np.zeros(6)
     m_c = np.zeros(6)
     origin_moments(poly, n, 1.0, m_e)
-    count = clip_half_plane(poly, n, (a - sigma_t, b1, b2), part)
+    count = clip_half_plane(poly, n, (a - sigma_t - strength[2], b1, b2), part)
     origin_moments(part, count, 1.0, m_t)
     if np.isfinite(f_c):
         count = clip_half_plane(poly, n, (-f_c - a, -b1, -b2), part)

@@ -19,13 +19,33 @@ A spring whose tangential force lies on its Coulomb limit to within the relative
 rounding, and a stick tangent there made the first iterate of the next step overshoot and the
 step shrink (a dry wall with a fixed column crept in steps of 0.05 first increments, ten
 iterations each). The forces are those of the return map; only the tangent changes.
+
+Ties at zero gaps are decided the same way whatever the round-off, with ``touch`` =
+``TOUCH`` (1e-12, :mod:`dem.kernels.interface_law`) times the model's extent (a parameter
+column): a spring is open only beyond a gap of ``touch`` (a touching spring at a positive gap
+keeps its tiny elastic tension, at most ``k_n touch`` per unit area), takes no friction from
+a normal force within ``k_n touch``, and sticks while its trial slip exceeds its friction
+limit by at most ``touch`` (:func:`dem.kernels.spring_grid.spring_return_map_one`); a sliding
+spring takes the direction of its friction force from its trial slip, so that its tangent
+couples the limit to the normal motion (``-mu k_n``) also where the limit is zero. After the
+dead load of seed 001 S13 (return walls of blocks) 21 joints carried nothing, their relative
+motions of round-off size (1e-20 m): their springs opened or closed and slid in round-off
+directions, differently under each OpenBLAS kernel, and so did their tangents, the elastic
+stiffness that sizes the first live step (0.16 % apart) and the frictional equilibrium the
+path then found (lambda 0.1780 / 0.1834 / 0.1829 under Haswell / SkylakeX / Sandybridge).
 """
 
 import numpy as np
 from numba import njit
 
 from dem.kernels.interface_law import KINK_BAND
-from dem.kernels.spring_grid import STATUS_OPEN, STATUS_SLIP, STATUS_STICK, spring_return_map_one
+from dem.kernels.spring_grid import (
+    STATUS_OPEN,
+    STATUS_SLIP,
+    STATUS_STICK,
+    friction_limit,
+    spring_return_map_one,
+)
 
 STATE_ELASTIC = 0
 STATE_SHEAR = 1
@@ -40,17 +60,19 @@ F_MU = 2  # friction coefficient [-]
 F_COHESION = 3  # [Pa]
 F_TENSILE = 4  # tensile strength [Pa]
 F_FC = 5  # compressive strength [Pa]; inf for none
-N_FIBRE_PARAMS = 6
+F_TOUCH = 6  # gap up to which a spring counts as touching [m] (module notes)
+N_FIBRE_PARAMS = 7
 
 
 @njit(cache=True)
-def on_limit(f_n, f_1, f_2, mu, cohesion_force):
+def on_limit(f_n, f_1, f_2, mu, cohesion_force, touch_force):
     """Whether a sticking spring's tangential force is on its Coulomb limit (``KINK_BAND``).
 
     ``f_n`` [N] (< 0 in compression), ``f_1, f_2`` [N] the spring's forces, ``mu`` [-],
-    ``cohesion_force`` its cohesion times its area [N] (0 once broken).
+    ``cohesion_force`` its cohesion times its area [N] (0 once broken), ``touch_force`` the
+    normal force of the touching gap [N] (:func:`dem.kernels.spring_grid.friction_limit`).
     """
-    limit = cohesion_force - mu * f_n
+    limit = friction_limit(f_n, mu, cohesion_force, touch_force)
     if limit <= 0.0:
         return False
     return np.hypot(f_1, f_2) >= limit * (1.0 - KINK_BAND)
@@ -72,7 +94,8 @@ def fibre_law_one(
         ``(y1, y2)`` about the interface centroid [m] and tributary area [m^2].
     params : (N_FIBRE_PARAMS,) float64
         The interface's law, columns ``F_*``: stiffnesses per unit area [Pa/m], friction
-        coefficient [-], cohesion, tensile and compressive strength [Pa] (inf for none).
+        coefficient [-], cohesion, tensile and compressive strength [Pa] (inf for none),
+        touching gap [m].
     slip : (n_springs, 3) float64
         Plastic slips and crushing closure at the last converged state [m].
     is_broken : (n_springs,) bool
@@ -153,7 +176,7 @@ def spring_into(q, s, springs, params, slip, is_broken, floor, out_slip, out_bro
     cohesion = params[F_COHESION] * a
     f_n, f_1, f_2, s1, s2, brk, st = spring_return_map_one(
         u_n, u_1, u_2, slip[s, 0], slip[s, 1], is_broken[s], kn, ks, mu, cohesion,
-        params[F_TENSILE] * a,
+        params[F_TENSILE] * a, params[F_TOUCH],
     )  # fmt: skip
     out_slip[s, 0] = s1
     out_slip[s, 1] = s2
@@ -170,13 +193,16 @@ def spring_into(q, s, springs, params, slip, is_broken, floor, out_slip, out_bro
     if st == STATUS_OPEN:
         dnn, d11, d22 = floor * kn, floor * ks, floor * ks
     elif st == STATUS_SLIP or (
-        st == STATUS_STICK and on_limit(f_n, f_1, f_2, mu, 0.0 if brk else cohesion)
+        st == STATUS_STICK
+        and on_limit(f_n, f_1, f_2, mu, 0.0 if brk else cohesion, kn * params[F_TOUCH])
     ):
         st = STATUS_SLIP
         norm = np.hypot(f_1, f_2)
-        t1 = f_1 / norm if norm > 0.0 else 0.0
-        t2 = f_2 / norm if norm > 0.0 else 0.0
-        trial = ks * np.hypot(u_1 - slip[s, 0], u_2 - slip[s, 1])
+        # the direction of the trial slip: that of the force, also where the limit is zero
+        w_1, w_2 = u_1 - slip[s, 0], u_2 - slip[s, 1]
+        trial = ks * np.hypot(w_1, w_2)
+        t1 = ks * w_1 / trial if trial > 0.0 else 0.0
+        t2 = ks * w_2 / trial if trial > 0.0 else 0.0
         ratio = min(norm / trial, 1.0) if trial > 0.0 else 0.0
         d11 = ks * (ratio * (1.0 - t1 * t1) + floor)
         d22 = ks * (ratio * (1.0 - t2 * t2) + floor)

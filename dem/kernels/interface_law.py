@@ -14,8 +14,15 @@ of block b with respect to block a (see :mod:`dem.geometry.compatibility`).
   assembly arches). Seed 001's Eq. (13) (elastic up to the limit, then ``k_r = 0``) let the
   joint turn about its centroid with no lift: a restrained 3 x 13 dry panel collapsed at a
   fifth of the fibre law's and the explicit DEM's load. A joint open over its whole area is
-  detached (Eq. 13): no action; a mortared joint (``f_t > 0``) is then broken for good and
-  behaves as a dry joint (``f_t = c = 0``). No memory: a dry joint recloses elastically.
+  detached (Eq. 13): no action. No memory: a dry joint recloses elastically.
+- bond: a mortared joint (``f_t > 0`` or ``c > 0``) cracks when its tensile cap covers half
+  its area (``STATE_FLEXURE``: it rocks; at ``N = 0`` that is 2/3 of Eq. 9's limit, twice
+  the elastic cracking moment) or the whole of it. Its tensile strength and cohesion are then
+  lost for good, in the trial that cracks it already (the dry joint's response at the same
+  motion, like the fibre law's brittle springs), and it behaves as a dry no-tension Coulomb
+  joint from then on. Held at the cap for ever (the seed's perfectly plastic Eq. 9), a
+  rocking mortared joint hardened towards the uniform tensile block without end: 4 of seed
+  001's 6 Chee Liang walls rose at 0.04-0.26 % of their initial slope after 400 steps.
 - shear and torsion (Eqs. 10, 12, 14, A5): elastic ``V = k_t A w``, ``M3' = k_t J_p theta``
   with ``w`` the elastic slip at the centre of compression ``y_c`` (where ``N`` acts) and
   ``theta`` the elastic twist, within
@@ -42,6 +49,16 @@ as elastic (seed 001 S11), the first Newton iterate of every step used their ela
 overshot, and the iteration cycled between states until the path-following stalled. In the
 band the action is the limit itself, so only the tangent changes: the one of continued plastic
 flow, which the next iterate corrects if the joint unloads.
+
+Ties at zero gaps are decided the same way whatever the round-off, with the touching gap
+``touch`` = ``TOUCH`` (1e-12) times the model's extent (a parameter column), as in the fibre
+law (:mod:`dem.kernels.fibre_law`): a point of the joint opens only beyond it (its trial
+stress above the cap by ``k_n touch``), a normal force within ``k_n touch A`` gives no
+friction and no centre of compression, and a dry joint whose elastic slip and twist stay
+below it is unloaded (elastic tangent). After the dead load of seed 001 S13 and S5 (return
+walls of blocks) 75 joints carried nothing, their relative motions of round-off size
+(1e-20 m): their states and tangents differed between OpenBLAS kernels (up to half the
+largest entry), and with them the first live step (0.4 % on S13).
 """
 
 import math
@@ -59,6 +76,7 @@ STATE_DETACHED = 4  # the whole interface is open (exclusive)
 STATE_CRUSHED = 8  # bit: the compressive strength is reached
 KINK_BAND = 1e-9  # relative band below a limit that already counts as yielding (module notes)
 OPEN_BAND = 1e-12  # relative open area above which a joint counts as detached
+TOUCH = 1e-12  # gaps below this fraction of the model's extent count as touching (notes)
 
 # columns of the per-interface parameter rows of the resultant law
 P_K = 0  # 0:6  elastic stiffnesses (k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)
@@ -70,8 +88,9 @@ P_ALPHA = 11  # exponent of Eq. (A5) [-]
 P_FC = 12  # compressive strength f_c [Pa]; inf for none
 P_AREA = 13  # area A [m^2]
 P_STIFF = 14  # 14:16 (k_n, k_r) per unit area [Pa/m]
-P_N_CORNERS = 16  # corners of the joint polygon
-P_POLY = 17  # 17:17 + 2 MAX_VERTICES corners (y1, y2) about the centroid, CCW [m]
+P_TOUCH = 16  # gap up to which a joint counts as touching [m] (module notes)
+P_N_CORNERS = 17  # corners of the joint polygon
+P_POLY = 18  # 18:18 + 2 MAX_VERTICES corners (y1, y2) about the centroid, CCW [m]
 N_PARAMS = P_POLY + 2 * MAX_VERTICES
 NORMAL_ROWS = (0, 3, 4)  # the components (dn, phi1, phi2) the normal force depends on
 
@@ -108,14 +127,15 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
         Plastic part at the last converged state: slips ``qp[1:3]`` and twist ``qp[5]`` at the
         centroid (``qp[0], qp[3], qp[4]`` unused, 0) [m, rad].
     is_broken : bool
-        Tensile strength and cohesion already lost.
+        Tensile strength and cohesion already lost (the joint cracked earlier).
     params : (N_PARAMS,) float64
         The interface's parameters, columns ``P_*``: elastic stiffnesses
         ``(k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)`` [N/m, N m/rad]; tensile strength
         and cohesion forces ``sigma_t A``, ``c A`` [N]; friction coefficient [-]; extents
         ``(l1, l2)`` along ``t1, t2`` [m]; exponent of Eq. (A5) [-]; compressive strength [Pa]
-        (inf for none); area [m^2]; ``(k_n, k_r)`` per unit area [Pa/m]; the number of corners
-        and the corners ``(y1, y2)`` of the joint polygon about its centroid, CCW [m].
+        (inf for none); area [m^2]; ``(k_n, k_r)`` per unit area [Pa/m]; the touching gap
+        [m]; the number of corners and the corners ``(y1, y2)`` of the joint polygon about its
+        centroid, CCW [m].
     floor : float
         Fraction of the elastic stiffness kept by yielded components of the tangent [-].
     out_f : (6,) float64
@@ -128,18 +148,23 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
     Returns
     -------
     is_broken : bool
+        Whether the bond is lost: before, or cracked by this motion (module notes).
     state : int
         Bit set of ``STATE_SHEAR``, ``STATE_FLEXURE``, ``STATE_CRUSHED``, or
         ``STATE_DETACHED``.
     """
     k = params[P_K : P_K + 6]
-    ft = params[P_FT]
-    c = params[P_COHESION]
-    if is_broken:
-        ft = 0.0
-        c = 0.0
+    bonded = not is_broken and (params[P_FT] > 0.0 or params[P_COHESION] > 0.0)
+    ft = params[P_FT] if bonded else 0.0
+    c = params[P_COHESION] if bonded else 0.0
     out_D[:, :] = 0.0
     state = normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D)
+    if bonded and state & (STATE_FLEXURE | STATE_DETACHED):
+        # cracked (module notes): the bond is lost for good, the dry joint answers already
+        is_broken = True
+        ft = c = 0.0
+        out_D[:, :] = 0.0
+        state = normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D)
     if state == STATE_DETACHED:
         # detachment (Eq. 13): no action; the slips follow the motion so that re-contact
         # starts unloaded
@@ -147,7 +172,7 @@ def resultant_law_one(q, qp, is_broken, params, floor, out_f, out_qp, out_D):
             out_f[i] = 0.0
             out_qp[i] = q[i]
             out_D[i, i] = floor * k[i]
-        return is_broken or params[P_FT] > 0.0, STATE_DETACHED
+        return is_broken, STATE_DETACHED
     state |= shear_and_torsion(q, qp, params, c, ft - out_f[0], floor, out_f, out_qp, out_D)
     return is_broken, state
 
@@ -169,7 +194,7 @@ def normal_and_rocking(q, qp, params, ft, floor, out_f, out_qp, out_D):
     poly = params[P_POLY : P_POLY + 2 * n].reshape((n, 2))
     f3 = np.empty(3)
     D3 = np.empty((3, 3))
-    strength = np.array((ft / area, params[P_FC]))
+    strength = np.array((ft / area, params[P_FC], params[P_STIFF] * params[P_TOUCH]))
     area_t, area_c = stress_resultants(
         np.array((q[0], q[3], q[4])), poly, n, params[P_STIFF : P_STIFF + 2], strength, f3, D3
     )
@@ -205,8 +230,10 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
     (:func:`normal_and_rocking`); writes rows 1, 2, 5; returns the state bits.
     """
     k = params[P_K : P_K + 6]
+    touch = params[P_TOUCH]
+    touch_force = params[P_STIFF] * touch * params[P_AREA]  # N of the touching gap
     centre, d_centre = np.zeros(2), np.zeros((2, 6))
-    compression_centre(out_f, out_D, cap, centre, d_centre)
+    compression_centre(out_f, out_D, cap, touch_force, centre, d_centre)
     # elastic slip at the centre and twist: V = k_t A w, M3' = k_t J_p theta
     theta = q[5] - qp[5]
     dv = np.zeros((2, 6))  # d V_trial / d q
@@ -218,17 +245,21 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
         dv[0, j] -= k[1] * theta * d_centre[1, j]
         dv[1, j] += k[2] * theta * d_centre[0, j]
     m_t = k[5] * theta
-    v_u = c - params[P_MU] * out_f[0]
+    # a touching joint (|N| within the touching gap's force) takes no friction from N
+    v_u = c - params[P_MU] * out_f[0] if abs(out_f[0]) > touch_force else c
+    dims = params[P_DIMS : P_DIMS + 2]
     if v_u <= 0.0:
-        # no friction capacity; an unloaded joint (a dry joint at N = 0) keeps its elastic
-        # tangent, so that the first iteration from the unloaded state sees it
-        unloaded = v1 == 0.0 and v2 == 0.0 and m_t == 0.0
+        # no friction capacity; an unloaded joint (a dry joint at N = 0, its elastic slip and
+        # twist below the touching gap) keeps its elastic tangent, so that the first
+        # iteration from the unloaded state sees it
+        unloaded = (
+            math.hypot(v1, v2) <= k[1] * touch and abs(theta) * max(dims[0], dims[1]) <= touch
+        )
         for i in (1, 2, 5):
             out_f[i] = 0.0
             out_qp[i] = qp[i] if unloaded else q[i]
             out_D[i, i] = k[i] if unloaded else floor * k[i]
         return STATE_ELASTIC if unloaded else STATE_SHEAR
-    dims = params[P_DIMS : P_DIMS + 2]
     reduced = (max(dims[0] - 2.0 * abs(centre[0]), 0.0), max(dims[1] - 2.0 * abs(centre[1]), 0.0))
     m_u = torsion_coefficient(reduced[0], reduced[1]) * v_u
     g = (v1 * v1 + v2 * v2) / (v_u * v_u)
@@ -260,11 +291,11 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
 
 
 @njit(cache=True)
-def compression_centre(f, D, cap, out, out_d):
+def compression_centre(f, D, cap, touch_force, out, out_d):
     """Centre of compression ``y_c = (M2, -M1) / cap`` [m] (where the compressive resultant
-    ``cap = f_t - N`` acts; 0 for ``cap <= 0``) into ``out`` (2,), and ``d y_c / d q`` from rows
-    0, 3, 4 of ``D`` into ``out_d`` (2, 6)."""
-    if cap <= 0.0:
+    ``cap = f_t - N`` acts; 0 for ``cap <= touch_force``, a joint barely touching) into ``out``
+    (2,), and ``d y_c / d q`` from rows 0, 3, 4 of ``D`` into ``out_d`` (2, 6)."""
+    if cap <= touch_force:
         return
     out[0], out[1] = f[4] / cap, -f[3] / cap
     for j in range(6):

@@ -29,8 +29,17 @@ STATUS_OPEN = 2
 
 
 @njit(cache=True)
+def friction_limit(f_n, mu, cohesion_force, touch_force):
+    """Coulomb limit ``c_f - mu f_n >= 0`` of a spring [N]; a touching spring
+    (``|f_n| <= touch_force``, a gap of round-off size) takes none from its normal force."""
+    if abs(f_n) <= touch_force:
+        return cohesion_force
+    return max(cohesion_force - mu * f_n, 0.0)
+
+
+@njit(cache=True)
 def spring_return_map_one(
-    u_n, u_t1, u_t2, slip1, slip2, is_broken, k_n, k_s, mu, cohesion_force, tensile_force
+    u_n, u_t1, u_t2, slip1, slip2, is_broken, k_n, k_s, mu, cohesion_force, tensile_force, touch=0.0
 ):
     """Return map of one Coulomb spring for a total displacement.
 
@@ -54,6 +63,11 @@ def spring_return_map_one(
         Cohesion times the spring's area [N].
     tensile_force : float
         Tensile strength times the spring's area [N] (0 for a no-tension spring).
+    touch : float
+        Gap [m] below which a spring counts as touching, whatever the sign of its round-off
+        (:mod:`dem.kernels.fibre_law`): closed up to this gap beyond its tensile strength,
+        no friction from a normal force within ``k_n touch``, and sticking while its trial
+        slip exceeds the friction limit by at most ``touch``. 0: the exact decisions.
 
     Returns
     -------
@@ -72,16 +86,14 @@ def spring_return_map_one(
         c_f = 0.0
         t_f = 0.0
     f_n = k_n * u_n
-    if f_n > t_f:
+    if f_n > t_f + k_n * touch:
         # detached: no force; the slip follows the motion so that re-contact starts unloaded
         return 0.0, 0.0, 0.0, u_t1, u_t2, is_broken or tensile_force > 0.0, STATUS_OPEN
     f_t1 = k_s * (u_t1 - slip1)
     f_t2 = k_s * (u_t2 - slip2)
-    limit = c_f - mu * f_n
-    if limit < 0.0:
-        limit = 0.0
+    limit = friction_limit(f_n, mu, c_f, k_n * touch)
     norm = math.sqrt(f_t1 * f_t1 + f_t2 * f_t2)
-    if norm <= limit:
+    if norm <= limit + k_s * touch:
         return f_n, f_t1, f_t2, slip1, slip2, is_broken, STATUS_STICK
     scale = limit / norm
     f_t1 *= scale

@@ -11,6 +11,7 @@ Modules, one concern each:
 - :mod:`dem.static.model`: unknowns, kinematics ``q = H U``, loads, stiffness assembly;
 - :mod:`dem.static.mechanism`: is there a mechanism the live load can drive at all;
 - :mod:`dem.static.newton`: the Newton corrector of one step;
+- :mod:`dem.static.dead_load`: the dead load in increments with automatic cutting;
 - :mod:`dem.static.path`: the path following (step control, cascades, control switch, end);
 - :mod:`dem.static.solve`: :func:`solve_collapse`;
 - :mod:`dem.static.result`: :class:`StaticResult`, :class:`NoCollapseError`.
@@ -25,6 +26,7 @@ from dem.kernels.interface_law import (
     STATE_FLEXURE,
     STATE_SHEAR,
 )
+from dem.static.dead_load import DeadLoadError
 from dem.static.laws import ALPHA_TABLE_A1, interface_alpha
 from dem.static.result import (
     COLLAPSE_TERMINATIONS,
@@ -44,6 +46,7 @@ __all__ = [
     "STATE_ELASTIC",
     "STATE_FLEXURE",
     "STATE_SHEAR",
+    "DeadLoadError",
     "FibreLawSettings",
     "NoCollapseError",
     "ResultantLawSettings",

@@ -61,6 +61,8 @@ class JointArrays:
         Compressive strength [Pa]; inf for none.
     kn, kt, kr : float
         Stiffness per unit area [Pa/m].
+    extent : float
+        Largest side of the model's bounding box [m]: the scale of its round-off in gaps.
     """
 
     area: np.ndarray
@@ -73,6 +75,7 @@ class JointArrays:
     kn: float
     kt: float
     kr: float
+    extent: float
 
     @property
     def n(self) -> int:
@@ -176,6 +179,7 @@ class ResultantLaw(_Committed):
         params[:, rk.P_FC] = joints.compressive
         params[:, rk.P_AREA] = joints.area
         params[:, rk.P_STIFF : rk.P_STIFF + 2] = joints.kn, joints.kr
+        params[:, rk.P_TOUCH] = rk.TOUCH * joints.extent
         for k in range(m):
             params[k, rk.P_N_CORNERS :] = _corner_row(interfaces.local_polygon(k), k)
         self.params = np.ascontiguousarray(params)
@@ -269,6 +273,7 @@ class FibreLaw(_Committed):
         params[:, fk.F_COHESION] = joints.cohesion
         params[:, fk.F_TENSILE] = joints.tensile
         params[:, fk.F_FC] = joints.compressive
+        params[:, fk.F_TOUCH] = rk.TOUCH * joints.extent
         self.params = np.ascontiguousarray(params)
         n_springs = len(self.springs)
         # slips and crushing closures (n_springs, 3), broken flags (n_springs,)

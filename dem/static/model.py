@@ -87,6 +87,7 @@ def joint_arrays(scene: Scene, settings: StaticSettings) -> JointArrays:
         kn=settings.kn,
         kt=settings.kt,
         kr=settings.kn if settings.kr is None else settings.kr,
+        extent=float(np.ptp(scene.assembly.arrays.vertices, axis=0).max()),
     )
 
 

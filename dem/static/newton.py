@@ -237,37 +237,3 @@ class Corrector:
         if best is not None and best.norm <= self.tolerance(best.lam, loose=True):
             return Outcome(True, best, max_iterations, floor, loose=True)
         return Outcome(False, it, max_iterations, floor)
-
-
-def solve_dead_load(corrector: Corrector) -> tuple[Iterate, int]:
-    """Equilibrium under the dead load (load control, ``dead_steps`` increments), committed.
-
-    Raises StaticSolverError naming the block of the largest residual if there is none (the
-    assembly is a mechanism under its own weight).
-    """
-    model, settings = corrector.model, corrector.settings
-    point = Iterate(np.zeros(model.n_free), 0.0, None, None)
-    n_iter = 0
-    for step in range(1, settings.dead_steps + 1):
-        con = Constraint(dead_target=model.F_dead * step / settings.dead_steps)
-        # the dead load starts from unloaded joints with no friction capacity: allow more
-        # iterations than a live step
-        point = Iterate(point.u, 0.0, None, None)
-        out = corrector.solve(point, con, max_iterations=4 * settings.max_iterations)
-        n_iter += out.iterations
-        if not out.converged:
-            R = out.point.residual
-            blk, dof = model.block_of_dof(int(np.argmax(np.abs(R))))
-            changing = np.flatnonzero(out.point.ev.law.state != 0)
-            why = f" ({out.singular})" if out.singular else ""
-            raise StaticSolverError(
-                f"no equilibrium under the dead load after {out.iterations} iterations{why} "
-                f"(residual {np.linalg.norm(R):.3e}, largest at block {blk} {dof}): the "
-                "assembly may be a mechanism under its own weight",
-                blocks=[blk],
-                interfaces=changing[:10],
-                lam=0.0,
-            )
-        point = out.point
-        model.law.commit(point.ev.law)
-    return point, n_iter

@@ -206,7 +206,11 @@ class StaticSettings:
     softening_drop : float
         End when lambda falls below ``(1 - softening_drop) lambda_max``.
     dead_steps : int
-        Increments of the dead load.
+        The first increment of the dead load is ``1 / dead_steps`` of it; the increments
+        then adapt (:mod:`dem.static.dead_load`).
+    dead_min_step : float
+        Smallest increment of the dead load, as a fraction of it: when one that small finds
+        no equilibrium the dead load is not carried (:class:`dem.static.DeadLoadError`).
     monitor : tuple of (int, int) or None
         ``(block, dof)`` whose displacement the pushover also records; None: the free block
         with the largest live-direction translation in the mechanism.
@@ -247,6 +251,7 @@ class StaticSettings:
     plateau_window: float = 0.5
     softening_drop: float = 0.2
     dead_steps: int = 1
+    dead_min_step: float = 1e-3
     monitor: tuple[int, int] | None = None
     on_failure: str = "raise"
 
@@ -279,6 +284,12 @@ class StaticSettings:
             "plateau_window",
         ):
             _fraction(name, getattr(self, name))
+        _positive("dead_min_step", self.dead_min_step)
+        if self.dead_min_step > 1.0 / self.dead_steps:
+            raise ValueError(
+                f"dead_min_step {self.dead_min_step} exceeds the first dead-load increment "
+                f"1 / dead_steps = {1.0 / self.dead_steps:.3g}"
+            )
         law = self._resolved_law()
         object.__setattr__(self, "_law", law)
         object.__setattr__(self, "interface_model", law.name)

@@ -9,9 +9,10 @@ import time
 import numpy as np
 
 from dem.scene import Scene
+from dem.static.dead_load import solve_dead_load
 from dem.static.mechanism import no_mechanism_reason
 from dem.static.model import Model
-from dem.static.newton import Corrector, Iterate, solve_dead_load
+from dem.static.newton import Corrector, Iterate
 from dem.static.path import PathFollower, Peak
 from dem.static.result import COLLAPSE_TERMINATIONS, NoCollapseError, StaticResult
 from dem.static.settings import StaticSettings
@@ -39,8 +40,9 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     ValueError
         Bad inputs (no interfaces, no free dof, no friction coefficient, zero live load).
     StaticSolverError
-        Unsupported blocks (singular stiffness before any load), no equilibrium under the dead
-        load, NaN; the message names the blocks or interfaces involved.
+        Unsupported blocks (singular stiffness before any load), NaN; the message names the
+        blocks or interfaces involved. :class:`dem.static.DeadLoadError` (a subclass): the
+        dead load is not carried (:mod:`dem.static.dead_load`).
     NoCollapseError
         With ``on_failure="raise"`` (default): the run ended without a collapse (no mechanism
         exists, ``max_steps`` reached while lambda still rises, or stalled); ``reason`` says

@@ -334,6 +334,7 @@ def _fibre_params(mu=0.7, coh=0.0, ten=0.0, f_c=np.inf):
     p = np.empty(fk.N_FIBRE_PARAMS)
     p[fk.F_KN], p[fk.F_KS], p[fk.F_MU] = 2.4e9, 1e9, mu
     p[fk.F_COHESION], p[fk.F_TENSILE], p[fk.F_FC] = coh, ten, f_c
+    p[fk.F_TOUCH] = 0.0
     return p
 
 

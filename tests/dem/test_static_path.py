@@ -4,8 +4,9 @@ import numpy as np
 
 from dem.scene import Scene, proportional_to_weight
 from dem.static import StaticSettings
+from dem.static.dead_load import solve_dead_load
 from dem.static.model import Model
-from dem.static.newton import Corrector, Outcome, solve_dead_load
+from dem.static.newton import Corrector, Outcome
 from dem.static.path import PathFollower
 
 
