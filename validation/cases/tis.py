@@ -89,8 +89,10 @@ def run_panel(
     max_deflection_mm: float = 6.0,
     checkpoint: str | None = None,
     relaxation: RelaxationSettings | None = None,
+    parallel: bool | None = False,
 ) -> tuple[IndentationResult, Scene]:
-    """One relaxation + indentation run of a seed 000 panel."""
+    """One relaxation + indentation run of a seed 000 panel (``parallel``: as
+    :class:`dem.explicit.ExplicitSettings`)."""
     scene = tis_panel(n, theta_deg, thickness_mm=THICKNESS_MM)
     if block_mu is not None:
         asm = scene.assembly
@@ -102,6 +104,7 @@ def run_panel(
         mass_scaling=disc["mass_scaling"],
         dt_safety=disc["dt_safety"],
         mu=mu,
+        parallel=parallel,
     )
     indentation = IndentationSettings(
         speed=disc["speed_mm_s"] * MM,
