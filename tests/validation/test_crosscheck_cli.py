@@ -168,3 +168,6 @@ def test_a_negative_axis_after_live_is_a_direction_not_an_option(tmp_path, capfd
                             "--methods", "dead", "--no-pictures"]) == 0  # fmt: skip
     data = json.loads((out / "report.json").read_text())
     assert data["scene"]["live_weight_direction"] == [0.0, -1.0, 0.0]
+    capfd.readouterr()
+    assert console_main([str(path), "--live", "-w", "--out", str(out)]) == 2
+    assert "load direction must be x, y, z" in capfd.readouterr().err

@@ -58,7 +58,8 @@ def join_signed_values(argv: Sequence[str]) -> list[str]:
     option of its own, so a negative axis after ``--live`` would be refused."""
     out: list[str] = []
     for arg in argv:
-        if out and out[-1] == "--live" and arg.lower() in ("-x", "-y", "-z"):
+        # any "-<letter>" but -h, so that a wrong axis (-w) meets the direction's own error
+        if out and out[-1] == "--live" and len(arg) == 2 and arg[1].isalpha() and arg != "-h":
             out[-1] = f"--live={arg}"
         else:
             out.append(arg)
