@@ -36,7 +36,7 @@ path then found (lambda 0.1780 / 0.1834 / 0.1829 under Haswell / SkylakeX / Sand
 """
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from dem.kernels.interface_law import KINK_BAND
 from dem.kernels.spring_grid import (
@@ -248,7 +248,7 @@ def add_spring_tangent(y1, y2, dnn, d11, d22, d12, d1n, d2n, out_D):
             out_D[r2, bn_idx[j]] += v2 * d2n * bn_val[j]
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def fibre_law(
     q, spring_ptr, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
 ):
@@ -274,7 +274,7 @@ def fibre_law(
     """
     m = q.shape[0]
     state = np.empty(m, dtype=np.int64)
-    for j in range(m):
+    for j in prange(m):
         state[j] = fibre_law_one(
             q[j],
             spring_ptr[j],

@@ -64,7 +64,7 @@ largest entry), and with them the first live step (0.4 % on S13).
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from dem.kernels.contact_stress import MAX_VERTICES, stress_resultants
 from dem.kernels.shear_torsion_return import nearest_on_boundary
@@ -371,7 +371,7 @@ def torsion_capacity_gradient(dims, cap, reduced, v_u, f, D, out):
         out[j] -= v_u * 2.0 * (dc1 * de1 + dc2 * de2)
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def resultant_law(q, qp, is_broken, params, floor, out_f, out_qp, out_broken, out_state, out_D):
     """Batch of :func:`resultant_law_one` over ``m`` interfaces.
 
@@ -387,7 +387,7 @@ def resultant_law(q, qp, is_broken, params, floor, out_f, out_qp, out_broken, ou
     out_state : (m,) int64
     out_D : (m, 6, 6) float64
     """
-    for j in range(q.shape[0]):
+    for j in prange(q.shape[0]):
         brk, st = resultant_law_one(
             q[j], qp[j], is_broken[j], params[j], floor, out_f[j], out_qp[j], out_D[j]
         )

@@ -427,3 +427,39 @@ def test_fibre_tangent_matches_finite_differences(seed):
             checked += 1
     # a kink may lie inside a finite-difference stencil now and then; nearly all agree
     assert checked >= 180
+
+
+@pytest.mark.parametrize("model", ["resultant", "fibre"])
+def test_batched_laws_are_the_same_on_any_number_of_threads(model):
+    """The batch loops over interfaces run in parallel: every interface must be computed on
+    its own, so one thread, two threads and the single-interface kernel agree bit for bit."""
+    import numba
+
+    from dem.static import StaticSettings
+    from dem.static.model import Model
+
+    scene = running_bond_wall(4, 5, 81, 210, 70, 20, 0.7, live="weight")
+    law = Model(scene, StaticSettings(interface_model=model, mu=0.7, tensile_strength=2e4)).law
+    m = len(law.state)
+    q = 1e-5 * RNG.standard_normal((m, 6))  # opens, closes, slips and rocks joints
+    q[:, 0] -= 2e-6
+    runs = []
+    previous = numba.get_num_threads()
+    try:
+        for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
+            numba.set_num_threads(threads)
+            runs.append(law.evaluate(q, 1e-6))
+    finally:
+        numba.set_num_threads(previous)
+    for a, b in zip(runs[0].plastic, runs[1].plastic, strict=True):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(runs[0].f, runs[1].f)
+    np.testing.assert_array_equal(runs[0].D, runs[1].D)
+    np.testing.assert_array_equal(runs[0].state, runs[1].state)
+    assert len(np.unique(runs[0].state)) > 2  # several regimes are exercised
+    if model == "resultant":
+        f, qp, D = np.empty(6), np.empty(6), np.empty((6, 6))
+        for j in range(0, m, 7):
+            resultant_law_one(q[j], *(a[j] for a in law.plastic), law.params[j], 1e-6, f, qp, D)
+            np.testing.assert_array_equal(f, runs[0].f[j])
+            np.testing.assert_array_equal(D, runs[0].D[j])
