@@ -95,9 +95,7 @@ def test_thin_strip_domain_is_alpha_one():
     # m3/m3u = 1 - (c/a)^2 and f/fu = c/a exactly -> alpha = 1 (Table A1: 1.00 at l1/l2 = 0.1)
     strip = SpringInterface.rectangle(1e-4, 1.0, 1, 400)
     dom = interaction_domain(strip, DRY, N, n_points=65)
-    np.testing.assert_allclose(
-        dom.torsion_normalised, 1.0 - dom.shear_normalised**2, atol=2e-3
-    )
+    np.testing.assert_allclose(dom.torsion_normalised, 1.0 - dom.shear_normalised**2, atol=2e-3)
 
 
 # seed 001 Table A1, 2nd-4th columns; the seed gives no fitting rule. Tolerance: |d alpha| <= 0.15,
@@ -123,8 +121,9 @@ def test_alpha_against_table_a1(ratio):
         seed_alpha = TABLE_A1[ratio][column]
         assert abs(alpha - seed_alpha) <= 0.15, (ratio, column, alpha, seed_alpha)
         law_misfit = np.max(
-            np.abs(interaction_law_torsion(dom.shear_normalised, seed_alpha)
-                   - dom.torsion_normalised)
+            np.abs(
+                interaction_law_torsion(dom.shear_normalised, seed_alpha) - dom.torsion_normalised
+            )
         )
         assert law_misfit <= 0.06
 
@@ -171,7 +170,8 @@ def test_bending_reduces_torsion_like_reduced_rectangle(seed_interface):
     # no bending: the reduced rectangle is the whole interface
     np.testing.assert_allclose(
         torsion_strength_with_bending(seed_interface, DRY, N, 0.0, 0.0, L1, L2),
-        torsion_strength(seed_interface, DRY, N), rtol=1e-12,
+        torsion_strength(seed_interface, DRY, N),
+        rtol=1e-12,
     )
     # m1 = 12 N m -> e2 = 0.05 m, compressed rectangle 0.3 x 0.1 m (16 of 32 rows exactly)
     spring = torsion_strength_with_bending(seed_interface, DRY, N, -12.0, 0.0, L1, L2)
@@ -213,8 +213,10 @@ def test_spring_return_map_one_closed_forms():
         (lambda: SpringInterface.rectangle(0.3, 0.2, 0), "n1"),
         (lambda: SpringInterface.rectangle(0.3, 0.2, 4, 0), "n2"),
         (lambda: shear_strength(SpringInterface.rectangle(0.3, 0.2, 4), DRY, 0.0), "normal_force"),
-        (lambda: torsion_strength(SpringInterface.rectangle(0.3, 0.2, 4), DRY, 10.0),
-         "normal_force"),
+        (
+            lambda: torsion_strength(SpringInterface.rectangle(0.3, 0.2, 4), DRY, 10.0),
+            "normal_force",
+        ),
         (lambda: CoulombSpringLaw(mu=-0.1), "mu"),
         (lambda: SpringInterface(np.zeros((0, 2)), np.zeros(0)), "n_springs"),
         (lambda: torsion_coefficient_rectangle(0.3, -1.0), "l2"),

@@ -13,9 +13,9 @@ def _outward_normals(cell_ptr, cell_xy):
     for c in range(len(cell_ptr) - 1):
         p = cell_xy[cell_ptr[c] : cell_ptr[c + 1]]
         d = np.roll(p, -1, axis=0) - p
-        n[cell_ptr[c] : cell_ptr[c + 1]] = np.stack([d[:, 1], -d[:, 0]], 1) / np.linalg.norm(
-            d, axis=1
-        )[:, None]
+        n[cell_ptr[c] : cell_ptr[c + 1]] = (
+            np.stack([d[:, 1], -d[:, 0]], 1) / np.linalg.norm(d, axis=1)[:, None]
+        )
     return n
 
 
@@ -44,10 +44,12 @@ def test_uniform_stress_is_recovered(mesh):
     sigma0 = np.array([[-2.0, 0.5], [0.5, -1.0]])
     traction = _outward_normals(cell_ptr, cell_xy) @ sigma0.T
     rec = reconstruct_stress(cell_ptr, cell_xy, centres, traction)
-    np.testing.assert_allclose(rec.sigma_vertex, np.broadcast_to(sigma0, rec.sigma_vertex.shape),
-                               atol=1e-12 * 2.0)
-    np.testing.assert_allclose(rec.cell_stress, np.broadcast_to(sigma0, rec.cell_stress.shape),
-                               atol=1e-12 * 2.0)
+    np.testing.assert_allclose(
+        rec.sigma_vertex, np.broadcast_to(sigma0, rec.sigma_vertex.shape), atol=1e-12 * 2.0
+    )
+    np.testing.assert_allclose(
+        rec.cell_stress, np.broadcast_to(sigma0, rec.cell_stress.shape), atol=1e-12 * 2.0
+    )
     assert rec.div_norm.max() < 1e-10 and rec.skew_norm.max() < 1e-10
 
 
@@ -99,5 +101,6 @@ def test_lp_forces_to_rt_recover_uniform_stress():
     rec = reconstruct_stress(
         packing.cell_ptr, packing.cell_xy, packing.centres, facet_tractions(packing, res, traction)
     )
-    np.testing.assert_allclose(rec.cell_stress, np.broadcast_to(sigma0, rec.cell_stress.shape),
-                               atol=1e-7)
+    np.testing.assert_allclose(
+        rec.cell_stress, np.broadcast_to(sigma0, rec.cell_stress.shape), atol=1e-7
+    )
