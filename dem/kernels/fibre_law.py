@@ -79,34 +79,29 @@ def on_limit(f_n, f_1, f_2, mu, cohesion_force, touch_force):
 
 
 @njit(cache=True)
-def fibre_law_one(
-    q, lo, hi, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
-):
+def fibre_law_one(q, span, springs, params, plastic, floor, trial, out_f, out_D):
     """Return mapping of the springs of one interface, resultants and tangent.
 
     Parameters
     ----------
     q : (6,) float64
         Relative motion ``(dn, dt1, dt2, phi1, phi2, phi3)`` [m, rad].
-    lo, hi : int
-        The interface's springs are ``lo:hi``.
+    span : (int, int)
+        The interface's springs are ``span[0]:span[1]``.
     springs : (n_springs, 3) float64
         ``(y1, y2)`` about the interface centroid [m] and tributary area [m^2].
     params : (N_FIBRE_PARAMS,) float64
         The interface's law, columns ``F_*``: stiffnesses per unit area [Pa/m], friction
         coefficient [-], cohesion, tensile and compressive strength [Pa] (inf for none),
         touching gap [m].
-    slip : (n_springs, 3) float64
-        Plastic slips and crushing closure at the last converged state [m].
-    is_broken : (n_springs,) bool
-        Springs that lost their tensile strength.
+    plastic : (slip, is_broken)
+        Plastic slips and crushing closure (n_springs, 3) [m] at the last converged state,
+        and the springs (n_springs,) bool that lost their tensile strength.
     floor : float
         Fraction of the elastic stiffness kept by open, sliding or crushed springs in the
         tangent.
-    out_slip : (n_springs, 3) float64
-        Output slips and closures (only rows ``lo:hi`` are written).
-    out_broken : (n_springs,) bool
-        Output flags (rows ``lo:hi``).
+    trial : (out_slip, out_broken)
+        Output slips and closures, and flags, as ``plastic`` (only the span is written).
     out_f : (6,) float64
         Output ``(N, V1, V2, M1, M2, M3)`` [N, N m].
     out_D : (6, 6) float64
@@ -127,10 +122,8 @@ def fibre_law_one(
     area_slip = 0.0
     area_total = 0.0
     crushed = False
-    for s in range(lo, hi):
-        code = spring_into(
-            q, s, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
-        )
+    for s in range(span[0], span[1]):
+        code = spring_into(q, s, springs, params, plastic, floor, trial, out_f, out_D)
         a = springs[s, 2]
         area_total += a
         status = code & 3
@@ -152,13 +145,15 @@ def fibre_law_one(
 
 
 @njit(cache=True)
-def spring_into(q, s, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D):
+def spring_into(q, s, springs, params, plastic, floor, trial, out_f, out_D):
     """Return map of spring ``s``, its forces and tangent added to the interface's.
 
     Arguments as :func:`fibre_law_one`. Returns the spring's status (``STATUS_STICK``,
     ``STATUS_SLIP`` also for a sticking spring on its limit, ``STATUS_OPEN``) plus 4 if it
     is crushed.
     """
+    slip, is_broken = plastic
+    out_slip, out_broken = trial
     y1, y2, a = springs[s, 0], springs[s, 1], springs[s, 2]
     kn = params[F_KN] * a
     ks = params[F_KS] * a
@@ -175,9 +170,12 @@ def spring_into(q, s, springs, params, slip, is_broken, floor, out_slip, out_bro
     u_2 = q[2] + q[5] * y1
     cohesion = params[F_COHESION] * a
     f_n, f_1, f_2, s1, s2, brk, st = spring_return_map_one(
-        u_n, u_1, u_2, slip[s, 0], slip[s, 1], is_broken[s], kn, ks, mu, cohesion,
-        params[F_TENSILE] * a, params[F_TOUCH],
-    )  # fmt: skip
+        (u_n, u_1, u_2),
+        (slip[s, 0], slip[s, 1]),
+        is_broken[s],
+        (kn, ks, mu, cohesion, params[F_TENSILE] * a),
+        params[F_TOUCH],
+    )
     out_slip[s, 0] = s1
     out_slip[s, 1] = s2
     out_slip[s, 2] = closure
@@ -249,10 +247,8 @@ def add_spring_tangent(y1, y2, dnn, d11, d22, d12, d1n, d2n, out_D):
 
 
 @njit(cache=True, parallel=True)
-def fibre_law(
-    q, spring_ptr, springs, params, slip, is_broken, floor, out_slip, out_broken, out_f, out_D
-):
-    """Batch of :func:`fibre_law_one` over ``m`` interfaces.
+def fibre_law(q, spring_ptr, springs, params, plastic, floor, trial, out_f, out_D):
+    """Batch of :func:`fibre_law_one` over ``m`` interfaces (a ``prange`` loop).
 
     Parameters
     ----------
@@ -260,11 +256,9 @@ def fibre_law(
     spring_ptr : (m + 1,) int64
     springs : (n_springs, 3) float64
     params : (m, N_FIBRE_PARAMS) float64
-    slip : (n_springs, 3) float64
-    is_broken : (n_springs,) bool
+    plastic : (slip (n_springs, 3) float64, is_broken (n_springs,) bool)
     floor : float
-    out_slip : (n_springs, 3) float64
-    out_broken : (n_springs,) bool
+    trial : (out_slip (n_springs, 3) float64, out_broken (n_springs,) bool)
     out_f : (m, 6) float64
     out_D : (m, 6, 6) float64
 
@@ -277,15 +271,12 @@ def fibre_law(
     for j in prange(m):
         state[j] = fibre_law_one(
             q[j],
-            spring_ptr[j],
-            spring_ptr[j + 1],
+            (spring_ptr[j], spring_ptr[j + 1]),
             springs,
             params[j],
-            slip,
-            is_broken,
+            plastic,
             floor,
-            out_slip,
-            out_broken,
+            trial,
             out_f[j],
             out_D[j],
         )

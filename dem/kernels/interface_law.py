@@ -372,24 +372,28 @@ def torsion_capacity_gradient(dims, cap, reduced, v_u, f, D, out):
 
 
 @njit(cache=True, parallel=True)
-def resultant_law(q, qp, is_broken, params, floor, out_f, out_qp, out_broken, out_state, out_D):
-    """Batch of :func:`resultant_law_one` over ``m`` interfaces.
+def resultant_law(q, plastic, params, floor, trial, out_state, out_f, out_D):
+    """Batch of :func:`resultant_law_one` over ``m`` interfaces (a ``prange`` loop).
 
     Parameters
     ----------
-    q, qp : (m, 6) float64
-    is_broken : (m,) bool
+    q : (m, 6) float64
+    plastic : (qp (m, 6) float64, is_broken (m,) bool)
+        The committed state.
     params : (m, N_PARAMS) float64
         One row per interface (see :func:`resultant_law_one`).
     floor : float
-    out_f, out_qp : (m, 6) float64
-    out_broken : (m,) bool
+    trial : (out_qp (m, 6) float64, out_broken (m,) bool)
+        Output plastic state of the trial.
     out_state : (m,) int64
+    out_f : (m, 6) float64
     out_D : (m, 6, 6) float64
     """
+    # the tuples are indexed inside the loop: unpacked before it, the writes into the
+    # boolean array were lost on two threads (numba 0.68.1; caught by the thread test)
     for j in prange(q.shape[0]):
         brk, st = resultant_law_one(
-            q[j], qp[j], is_broken[j], params[j], floor, out_f[j], out_qp[j], out_D[j]
+            q[j], plastic[0][j], plastic[1][j], params[j], floor, out_f[j], trial[0][j], out_D[j]
         )
-        out_broken[j] = brk
+        trial[1][j] = brk
         out_state[j] = st

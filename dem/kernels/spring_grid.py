@@ -38,31 +38,24 @@ def friction_limit(f_n, mu, cohesion_force, touch_force):
 
 
 @njit(cache=True)
-def spring_return_map_one(
-    u_n, u_t1, u_t2, slip1, slip2, is_broken, k_n, k_s, mu, cohesion_force, tensile_force, touch=0.0
-):
+def spring_return_map_one(u, slip, is_broken, spring, touch=0.0):
     """Return map of one Coulomb spring for a total displacement.
 
     Parameters
     ----------
-    u_n : float
-        Normal relative displacement [m], positive when the joint opens.
-    u_t1, u_t2 : float
-        Tangential relative displacements [m].
-    slip1, slip2 : float
-        Plastic slip at the start of the step [m].
+    u : (float, float, float)
+        ``(u_n, u_t1, u_t2)``: normal relative displacement, positive when the joint opens,
+        and tangential relative displacements [m].
+    slip : (float, float)
+        Plastic slip ``(slip1, slip2)`` at the start of the step [m].
     is_broken : bool
-        True if the spring has already failed in tension (then ``cohesion_force`` and
-        ``tensile_force`` are ignored: it behaves as a dry spring).
-    k_n, k_s : float
-        Normal and tangential stiffness of the spring [N/m] (stiffness per area times the
-        spring's area).
-    mu : float
-        Friction coefficient ``tan(phi)`` [-].
-    cohesion_force : float
-        Cohesion times the spring's area [N].
-    tensile_force : float
-        Tensile strength times the spring's area [N] (0 for a no-tension spring).
+        True if the spring has already failed in tension (then its cohesion and tensile
+        forces are ignored: it behaves as a dry spring).
+    spring : (float, float, float, float, float)
+        ``(k_n, k_s, mu, cohesion_force, tensile_force)``: normal and tangential stiffness
+        of the spring [N/m] (stiffness per area times the spring's area), friction
+        coefficient ``tan(phi)`` [-], cohesion and tensile strength (0 for a no-tension
+        spring) times the spring's area [N].
     touch : float
         Gap [m] below which a spring counts as touching, whatever the sign of its round-off
         (:mod:`dem.kernels.fibre_law`): closed up to this gap beyond its tensile strength,
@@ -80,6 +73,9 @@ def spring_return_map_one(
     status : int
         ``STATUS_STICK`` (0), ``STATUS_SLIP`` (1) or ``STATUS_OPEN`` (2).
     """
+    u_n, u_t1, u_t2 = u
+    slip1, slip2 = slip
+    k_n, k_s, mu, cohesion_force, tensile_force = spring
     c_f = cohesion_force
     t_f = tensile_force
     if is_broken:
@@ -102,58 +98,32 @@ def spring_return_map_one(
 
 
 @njit(cache=True)
-def spring_return_map_many(
-    u,
-    slip,
-    is_broken,
-    k_n,
-    k_s,
-    mu,
-    cohesion_force,
-    tensile_force,
-    out_force,
-    out_slip,
-    out_broken,
-    out_status,
-):
+def spring_return_map_many(u, state, springs, mu, out):
     """Batch of :func:`spring_return_map_one`.
 
     Parameters
     ----------
     u : ndarray, shape (n, 3)
         Spring displacements ``(u_t1, u_t2, u_n)`` [m].
-    slip : ndarray, shape (n, 2)
-        Plastic slip at the start of the step [m].
-    is_broken : ndarray of bool, shape (n,)
-        Tensile failure flags.
-    k_n, k_s : ndarray, shape (n,)
-        Spring stiffnesses [N/m].
+    state : (slip, is_broken)
+        Plastic slip (n, 2) [m] and tensile failure flags (n,) bool at the start of the step.
+    springs : (k_n, k_s, cohesion_force, tensile_force)
+        Per-spring (n,) stiffnesses [N/m] and cohesion and tensile strength forces [N].
     mu : float
         Friction coefficient [-].
-    cohesion_force, tensile_force : ndarray, shape (n,)
-        Cohesion and tensile strength forces of each spring [N].
-    out_force : ndarray, shape (n, 3)
-        Output forces ``(f_t1, f_t2, f_n)`` [N].
-    out_slip : ndarray, shape (n, 2)
-        Output slip [m] (may alias ``slip``).
-    out_broken : ndarray of bool, shape (n,)
-        Output flags (may alias ``is_broken``).
-    out_status : ndarray of int64, shape (n,)
-        Output status codes.
+    out : (force, slip, broken, status)
+        Output forces ``(f_t1, f_t2, f_n)`` (n, 3) [N], slip (n, 2) [m] and flags (n,) (may
+        alias ``state``), status codes (n,) int64.
     """
+    slip, is_broken = state
+    k_n, k_s, cohesion_force, tensile_force = springs
+    out_force, out_slip, out_broken, out_status = out
     for i in range(u.shape[0]):
         f_n, f_t1, f_t2, s1, s2, brk, st = spring_return_map_one(
-            u[i, 2],
-            u[i, 0],
-            u[i, 1],
-            slip[i, 0],
-            slip[i, 1],
+            (u[i, 2], u[i, 0], u[i, 1]),
+            (slip[i, 0], slip[i, 1]),
             is_broken[i],
-            k_n[i],
-            k_s[i],
-            mu,
-            cohesion_force[i],
-            tensile_force[i],
+            (k_n[i], k_s[i], mu, cohesion_force[i], tensile_force[i]),
         )
         out_force[i, 0] = f_t1
         out_force[i, 1] = f_t2
@@ -250,17 +220,10 @@ def spring_grid_path(
         spring_displacements(positions, path[k], u)
         spring_return_map_many(
             u,
-            slip,
-            broken,
-            k_n,
-            k_s,
+            (slip, broken),
+            (k_n, k_s, cohesion_force, tensile_force),
             mu,
-            cohesion_force,
-            tensile_force,
-            force,
-            slip,
-            broken,
-            status,
+            (force, slip, broken, status),
         )
         res = spring_resultants(positions, force)
         for j in range(6):

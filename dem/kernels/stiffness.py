@@ -47,9 +47,7 @@ def local_compatibility(block_a, block_b, iface_centroid, block_centroid, frame)
             block_centroid[a],
             block_centroid[b],
             frame[k],
-            rows,
-            cols,
-            vals,
+            (rows, cols, vals),
             0,
         )
         for p in range(ENTRIES_PER_INTERFACE):

@@ -7,14 +7,16 @@ ENTRIES_PER_INTERFACE = 72  # 6 interface components x 12 dofs of the two blocks
 
 
 @njit(cache=True)
-def compatibility_triplets_one(k, a, b, c, xa, xb, frame, rows, cols, vals, pos):
-    """Write the 6 x 12 block of interface ``k`` into ``rows, cols, vals`` from ``pos``.
+def compatibility_triplets_one(k, a, b, c, xa, xb, frame, out, pos):
+    """Write the 6 x 12 block of interface ``k`` into ``out = (rows, cols, vals)`` from
+    ``pos``; returns the position after it.
 
     ``c`` (3,) interface centroid, ``xa, xb`` (3,) block centroids, ``frame`` (3, 3) rows
     ``n, t1, t2``. Relative motion of b with respect to a at ``c``:
     ``delta = (u_b - (c - x_b) x r_b) - (u_a - (c - x_a) x r_a)`` and ``phi = r_b - r_a``;
     rows are ``(n.delta, t1.delta, t2.delta, t1.phi, t2.phi, n.phi)``.
     """
+    rows, cols, vals = out
     rot_rows = np.empty((3, 3))
     rot_rows[0] = frame[1]
     rot_rows[1] = frame[2]
@@ -88,9 +90,7 @@ def compatibility_triplets(block_a, block_b, iface_centroid, block_centroid, fra
             block_centroid[a],
             block_centroid[b],
             frame[k],
-            rows,
-            cols,
-            vals,
+            (rows, cols, vals),
             pos,
         )
     return rows, cols, vals

@@ -191,7 +191,7 @@ class ResultantLaw(_Committed):
         m = len(q)
         f, qp, D = np.empty((m, 6)), np.empty((m, 6)), np.empty((m, 6, 6))
         broken, state = np.empty(m, dtype=np.bool_), np.empty(m, dtype=np.int64)
-        rk.resultant_law(q, *self.plastic, self.params, floor, f, qp, broken, state, D)
+        rk.resultant_law(q, self.plastic, self.params, floor, (qp, broken), state, f, D)
         return LawResponse(f, D, state, (qp, broken))
 
 
@@ -285,6 +285,6 @@ class FibreLaw(_Committed):
         f, D = np.empty((m, 6)), np.empty((m, 6, 6))
         slip, broken = np.empty_like(self.plastic[0]), np.empty_like(self.plastic[1])
         state = fk.fibre_law(
-            q, self.spring_ptr, self.springs, self.params, *self.plastic, floor, slip, broken, f, D
+            q, self.spring_ptr, self.springs, self.params, self.plastic, floor, (slip, broken), f, D
         )
         return LawResponse(f, D, state, (slip, broken))

@@ -192,16 +192,16 @@ def test_torsion_with_tensile_strength_follows_eq12(seed_interface):
 
 def test_spring_return_map_one_closed_forms():
     # stick: elastic forces
-    out = spring_return_map_one(-1e-4, 1e-6, 0.0, 0.0, 0.0, False, 1e5, 2e4, 0.5, 0.0, 0.0)
+    out = spring_return_map_one((-1e-4, 1e-6, 0.0), (0.0, 0.0), False, (1e5, 2e4, 0.5, 0.0, 0.0))
     np.testing.assert_allclose(out[:3], [-10.0, 0.02, 0.0])
     assert out[6] == STATUS_STICK
     # slip: radial return onto |t| = mu |n| = 5 N, slip so that k_s (u - s) = t
-    out = spring_return_map_one(-1e-4, 3e-3, 4e-3, 0.0, 0.0, False, 1e5, 2e4, 0.5, 0.0, 0.0)
+    out = spring_return_map_one((-1e-4, 3e-3, 4e-3), (0.0, 0.0), False, (1e5, 2e4, 0.5, 0.0, 0.0))
     np.testing.assert_allclose(out[1:3], [3.0, 4.0])
     np.testing.assert_allclose(out[3:5], [3e-3 - 3.0 / 2e4, 4e-3 - 4.0 / 2e4])
     assert out[6] == STATUS_SLIP
     # opening beyond the tensile force: no force, the spring breaks
-    out = spring_return_map_one(1e-3, 0.0, 0.0, 0.0, 0.0, False, 1e5, 2e4, 0.5, 1.0, 2.0)
+    out = spring_return_map_one((1e-3, 0.0, 0.0), (0.0, 0.0), False, (1e5, 2e4, 0.5, 1.0, 2.0))
     assert out[:3] == (0.0, 0.0, 0.0) and out[5] and out[6] == STATUS_OPEN
 
 

@@ -346,7 +346,7 @@ def _fibre(q, pos, areas, mu=0.7, coh=0.0, ten=0.0, f_c=np.inf, slip=None):
     brk = np.zeros(ns, dtype=np.bool_)
     out_slip, out_brk = np.zeros((ns, 3)), brk.copy()
     params = _fibre_params(mu, coh, ten, f_c)
-    st = fibre_law_one(q, 0, ns, springs, params, slip, brk, 0.0, out_slip, out_brk, f, D)
+    st = fibre_law_one(q, (0, ns), springs, params, (slip, brk), 0.0, (out_slip, out_brk), f, D)
     return f, D, st
 
 
@@ -457,9 +457,25 @@ def test_batched_laws_are_the_same_on_any_number_of_threads(model):
     np.testing.assert_array_equal(runs[0].D, runs[1].D)
     np.testing.assert_array_equal(runs[0].state, runs[1].state)
     assert len(np.unique(runs[0].state)) > 2  # several regimes are exercised
+    f, qp, D = np.empty(6), np.empty(6), np.empty((6, 6))
     if model == "resultant":
-        f, qp, D = np.empty(6), np.empty(6), np.empty((6, 6))
-        for j in range(0, m, 7):
-            resultant_law_one(q[j], *(a[j] for a in law.plastic), law.params[j], 1e-6, f, qp, D)
+        broken = np.empty(m, dtype=bool)
+        for j in range(m):
+            broken[j], _ = resultant_law_one(
+                q[j], *(a[j] for a in law.plastic), law.params[j], 1e-6, f, qp, D
+            )
             np.testing.assert_array_equal(f, runs[0].f[j])
             np.testing.assert_array_equal(D, runs[0].D[j])
+            np.testing.assert_array_equal(qp, runs[0].plastic[0][j])
+        np.testing.assert_array_equal(broken, runs[0].plastic[1])
+        assert broken.any() and not broken.all()
+    else:
+        trial = tuple(np.empty_like(a) for a in law.plastic)
+        for j in range(m):
+            span = (law.spring_ptr[j], law.spring_ptr[j + 1])
+            fibre_law_one(q[j], span, law.springs, law.params[j], law.plastic, 1e-6, trial, f, D)
+            np.testing.assert_array_equal(f, runs[0].f[j])
+            np.testing.assert_array_equal(D, runs[0].D[j])
+        for a, b in zip(trial, runs[0].plastic, strict=True):
+            np.testing.assert_array_equal(a, b)
+        assert trial[1].any() and not trial[1].all()
