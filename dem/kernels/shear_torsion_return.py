@@ -31,7 +31,9 @@ def boundary(v, v_u, m_u, alpha):
     e = 1.0 / alpha
     h = w**e
     dh = -2.0 * x * e * w ** (e - 1.0)
-    d2h = -2.0 * e * w ** (e - 1.0) + 4.0 * x * x * e * (e - 1.0) * w ** (e - 2.0)
+    d2h = -2.0 * e * w ** (e - 1.0)
+    if alpha != 1.0:  # (alpha = 1: the term is 0, and 0 * inf at the corner w = 0)
+        d2h += 4.0 * x * x * e * (e - 1.0) * w ** (e - 2.0)
     m = m_u * h
     dm = m_u * dh / v_u
     d2m = m_u * d2h / (v_u * v_u)
@@ -84,6 +86,10 @@ def nearest_on_boundary(v_t, m_t, v_u, m_u, alpha, a, b, out):
             v = new
             break
         v = new
+    if v >= v_u:  # converged onto the corner (a trial inside the domain by round-off)
+        out[0] = v_u
+        out[4] = 1.0
+        return
     m, dm, d2m, dm_dvu, ddm_dvu = boundary(v, v_u, m_u, alpha)
     h = m / m_u if m_u > 0.0 else (1.0 - (v / v_u) ** 2) ** (1.0 / alpha)
     dh = dm * v_u / m_u if m_u > 0.0 else 0.0

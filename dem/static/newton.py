@@ -170,6 +170,21 @@ class Corrector:
             )
         return Iterate(u, lam, ev, R)
 
+    def check_tangent(self, it: Iterate) -> None:
+        """Raise, naming the interfaces, if the law's tangent at ``it`` is not finite (a
+        singular or NaN solve must not be taken for a mechanism)."""
+        D = it.ev.law.D
+        bad = np.flatnonzero(~np.isfinite(D).all(axis=(1, 2)))
+        if bad.size:
+            model = self.model
+            raise StaticSolverError(
+                f"NaN or inf in the tangent of the {model.law.settings.name} law at lambda = "
+                f"{it.lam:.6g}: interfaces {bad[:10].tolist()} (blocks "
+                f"{sorted({int(x) for k in bad[:10] for x in (model.a[k], model.b[k])})})",
+                interfaces=bad[:10],
+                lam=it.lam,
+            )
+
     def tolerance(self, lam: float, loose: bool = False) -> float:
         """Residual norm of convergence at ``lam`` [N]."""
         tol = self.accept_tolerance if loose else self.settings.tolerance
@@ -214,6 +229,7 @@ class Corrector:
                 return Outcome(True, it, n_iter - 1, floor)
             sol = self._direction(it, con)
             if isinstance(sol, Exception) or not np.all(np.isfinite(sol)):
+                self.check_tangent(it)
                 if floor >= 1.0:
                     return Outcome(False, it, n_iter, floor, singular=str(sol))
                 floor = min(10.0 * floor, 1.0)

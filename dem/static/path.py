@@ -53,6 +53,7 @@ def first_increment(model: Model, corrector: Corrector, u: np.ndarray) -> float:
     ev = model.evaluate(u, 1.0)  # floor 1: the elastic stiffness
     lu = factor(model.stiffness(ev.law.D))
     if isinstance(lu, Exception):
+        corrector.check_tangent(Iterate(u, 0.0, ev, None))
         raise StaticSolverError(f"singular stiffness after the dead load: {lu}", lam=0.0)
     dlam0 = corrector.settings.load_step * model.lambda_scale
     dc0 = float(model.w @ lu.solve(model.F_live)) * dlam0

@@ -320,6 +320,43 @@ def test_resultant_tangent_matches_finite_differences(seed, f_c):
     assert crushed > 5 or not np.isfinite(f_c)
 
 
+# (v_t, m_t, V_u, M_u, k_t A, k_t J_p): near the corner, inside it by round-off (a joint of
+# the Orduna 3 x 13 panel after its dead load), and well outside
+RETURN_CASES = [
+    (1.0 + 1e-12, 1e-12, 1.0, 0.3, 1.0, 0.1),
+    (1.0, 1e-9, 1.0, 0.3, 1.0, 0.1),
+    (14.820664024314073, 0.0, 14.820664024314077, 0.3179912454295486, 7.35e6, 9754.0625),
+    (1.2, 0.05, 1.0, 0.3, 1.0, 0.1),
+]
+
+
+@pytest.mark.parametrize("alpha", [1.0, 1.43, 2.56])
+@pytest.mark.parametrize("case", RETURN_CASES)
+def test_torsion_shear_return_near_the_corner_is_finite(alpha, case):
+    # a sliding joint without twist returns onto V_u (the corner of pure sliding): with
+    # alpha = 1 the boundary's curvature there was 0 * inf = NaN, which made the whole
+    # stiffness singular after the dead load (Orduna 3 x 13, resultant law, alpha = 1)
+    from dem.kernels.shear_torsion_return import nearest_on_boundary
+
+    v_t, m_t, v_u, m_u, a, b = case
+    out = np.empty(10)
+    nearest_on_boundary(v_t, m_t, v_u, m_u, alpha, a, b, out)
+    assert np.all(np.isfinite(out)) and np.abs(out[2:]).max() < 1e3
+    v, m = out[0], out[1]
+    assert 0.0 < v <= v_u and m >= 0.0
+    np.testing.assert_allclose((m / m_u) ** alpha + (v / v_u) ** 2, 1.0, atol=1e-9)
+    if m_t < 1e-3:
+        return  # at the kink of the corner: a difference quotient straddles it
+    args = np.array([v_t, m_t, v_u, m_u])
+    for i in range(4):
+        h = 1e-7 * args[i]
+        plus, minus = np.empty(10), np.empty(10)
+        nearest_on_boundary(*(args + h * np.eye(4)[i]), alpha, a, b, plus)
+        nearest_on_boundary(*(args - h * np.eye(4)[i]), alpha, a, b, minus)
+        fd = (plus[:2] - minus[:2]) / (2 * h)
+        np.testing.assert_allclose([out[2 + i], out[6 + i]], fd, rtol=1e-5, atol=1e-8)
+
+
 # --- the fibre law --------------------------------------------------------------------------
 
 
