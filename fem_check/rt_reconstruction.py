@@ -222,8 +222,11 @@ def reconstruct_stress(
         raise ValueError(
             f"facet_traction must have shape ({n_facets}, 2), got {facet_traction.shape}"
         )
-    for name, arr in (("cell_xy", cell_xy), ("centres", centres), ("facet_traction",
-                                                                     facet_traction)):
+    for name, arr in (
+        ("cell_xy", cell_xy),
+        ("centres", centres),
+        ("facet_traction", facet_traction),
+    ):
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{name} must be finite")
 

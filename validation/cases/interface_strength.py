@@ -51,7 +51,11 @@ K_N, K_S = 2.4e9, 1.0e9  # 2.4 and 1 MPa/mm -> [Pa/m]
 LAW = CoulombSpringLaw(mu=MU, normal_stiffness=K_N, shear_stiffness=K_S)
 SEED = "seed 001"
 BASE = {
-    "l1_m": L1, "l2_m": L2, "normal_force_n": NORMAL_FORCE, "mu": MU, "grid": f"{N_GRID}x{N_GRID}"
+    "l1_m": L1,
+    "l2_m": L2,
+    "normal_force_n": NORMAL_FORCE,
+    "mu": MU,
+    "grid": f"{N_GRID}x{N_GRID}",
 }
 
 # seed 001 Table A1: alpha for (f1 only, f2 only, "f1 = f2")
@@ -91,13 +95,20 @@ def _shear_rows(curves: dict, quick: bool) -> list[Row]:
     dev = float(np.max(np.abs(np.hypot(ends[:, 0], ends[:, 1]) - f_su)))
     return [
         Row(
-            "shear strength f_su, seed interface [N]", f_su, 168.0,
-            f"{SEED} Sec. 2.1.2 (f_su = -mu f3)", wall, {**BASE, "method": "kinematic"},
+            "shear strength f_su, seed interface [N]",
+            f_su,
+            168.0,
+            f"{SEED} Sec. 2.1.2 (f_su = -mu f3)",
+            wall,
+            {**BASE, "method": "kinematic"},
             {"check": float(np.hypot(*ends[0])), "check_method": "EPP increments (d1 path)"},
         ),
         Row(
-            "shear domain: max abs(norm(f) - f_su) over EPP directions [N]", dev, 0.0,
-            f"{SEED} Eq. (10): circle f1^2 + f2^2 = f_su^2", wall_epp,
+            "shear domain: max abs(norm(f) - f_su) over EPP directions [N]",
+            dev,
+            0.0,
+            f"{SEED} Eq. (10): circle f1^2 + f2^2 = f_su^2",
+            wall_epp,
             {**BASE, "directions": n_dir, "method": "EPP increments, 40 steps to 2e-5 m"},
             {"curve": "fig5_*"},
         ),
@@ -122,28 +133,46 @@ def _torsion_rows(curves: dict, quick: bool) -> list[Row]:
     curves["fig6_torsion"] = epp.resultants[:, 5]
     return [
         Row(
-            "pure torsion strength m3u, seed interface [N m]", m3u, 16.2,
-            f"{SEED} Sec. 2.1.3", wall, {**BASE, "method": "kinematic (twist about centroid)"},
+            "pure torsion strength m3u, seed interface [N m]",
+            m3u,
+            16.2,
+            f"{SEED} Sec. 2.1.3",
+            wall,
+            {**BASE, "method": "kinematic (twist about centroid)"},
             {"check": float(epp.resultants[-1, 5]), "check_method": "EPP increments (delta3)"},
         ),
         Row(
-            "pure torsion strength by SOCP (Clarabel) [N m]", socp.torsion, m3u,
-            "kinematic (exact)", wall_socp, {**BASE, "solver": "CLARABEL", "status": socp.status},
+            "pure torsion strength by SOCP (Clarabel) [N m]",
+            socp.torsion,
+            m3u,
+            "kinematic (exact)",
+            wall_socp,
+            {**BASE, "solver": "CLARABEL", "status": socp.status},
             {"check": socp.max_cone_violation, "check_method": "max cone violation [N]"},
         ),
         Row(
-            "pure torsion, closed form c_T mu abs(N) (continuum) [N m]", closed, 16.2,
-            f"{SEED} Sec. 2.1.3 (value); Eq. (11) re-derived", 0.0, {**BASE, "c_T_m": c_t},
+            "pure torsion, closed form c_T mu abs(N) (continuum) [N m]",
+            closed,
+            16.2,
+            f"{SEED} Sec. 2.1.3 (value); Eq. (11) re-derived",
+            0.0,
+            {**BASE, "c_T_m": c_t},
             {"check": m3u, "check_method": "spring grid 32x32"},
         ),
         Row(
             "pure torsion, rigid-block model: N at the 4 vertices [N m] (other model)",
-            vertices, None, "informational: mu abs(N) x half diagonal, not the seed's model",
-            0.0, BASE,
+            vertices,
+            None,
+            "informational: mu abs(N) x half diagonal, not the seed's model",
+            0.0,
+            BASE,
         ),
         Row(
             "EPP torsion - kinematic torsion, seed interface [N m]",
-            float(epp.resultants[-1, 5] - m3u), 0.0, "exact (all springs slide)", wall_epp,
+            float(epp.resultants[-1, 5] - m3u),
+            0.0,
+            "exact (all springs slide)",
+            wall_epp,
             {**BASE, "steps": 200, "delta3_max_rad": 0.01},
             {"curve": "fig6_*"},
         ),
@@ -163,17 +192,25 @@ def _convergence_rows(quick: bool) -> list[Row]:
         order = math.log2(errs[-2] / errs[-1]) if len(errs) > 1 else None
         rows.append(
             Row(
-                f"c_T spring grid {n}x{n} vs closed form [m]", grid_ct, c_t,
-                "closed form (mean distance to centroid)", wall,
-                {"l1_m": L1, "l2_m": L2, "grid": f"{n}x{n}"}, {"order": order},
+                f"c_T spring grid {n}x{n} vs closed form [m]",
+                grid_ct,
+                c_t,
+                "closed form (mean distance to centroid)",
+                wall,
+                {"l1_m": L1, "l2_m": L2, "grid": f"{n}x{n}"},
+                {"order": order},
             )
         )
     h = np.array([1.0 / n for n in ns])
     slope = float(np.polyfit(np.log(h[2:]), np.log(errs[2:]), 1)[0])
     rows.append(
         Row(
-            "c_T convergence order (fit over grids >= 16)", slope, 2.0,
-            "midpoint rule, cone point at the centroid: O(h^2)", None, {"grids": ns},
+            "c_T convergence order (fit over grids >= 16)",
+            slope,
+            2.0,
+            "midpoint rule, cone point at the centroid: O(h^2)",
+            None,
+            {"grids": ns},
         )
     )
     return rows
@@ -216,12 +253,19 @@ def _domain_seed_rows(curves: dict, quick: bool) -> list[Row]:
     return [
         Row(
             "m3-f1 domain, seed interface: EPP end points - kinematic, max [N, N m]",
-            float(max(diffs)), 0.0, "exact kinematic boundary (twist centres)", wall_epp,
-            {**BASE, "twist_centres_m": rhos, "steps": 100}, {"curve": "fig8_*"},
+            float(max(diffs)),
+            0.0,
+            "exact kinematic boundary (twist centres)",
+            wall_epp,
+            {**BASE, "twist_centres_m": rhos, "steps": 100},
+            {"curve": "fig8_*"},
         ),
         Row(
             "m3-f1 domain, seed interface: SOCP - kinematic, max abs(dm3) [N m]",
-            socp_diff, 0.0, "exact kinematic boundary", wall_socp,
+            socp_diff,
+            0.0,
+            "exact kinematic boundary",
+            wall_socp,
             {**BASE, "points": len(picks), "status": sorted(socp_status)},
             {"check": wall, "check_method": "wall of the kinematic domain [s]"},
         ),
@@ -245,10 +289,18 @@ def _alpha_rows(curves: dict, quick: bool) -> list[Row]:
             curves[f"{key}_f"], curves[f"{key}_m"] = f, m
             rows.append(
                 Row(
-                    f"alpha, l1/l2 = {ratio:g}, shear {label}", alpha, seed_alpha,
-                    f"{SEED} Table A1", wall,
-                    {"l1_over_l2": ratio, "grid": f"{N_GRID}x{N_GRID}", "mode": dom.mode,
-                     "shear_angle_rad": angle, "fit": "law through the point m/m3u = f/fsu"},
+                    f"alpha, l1/l2 = {ratio:g}, shear {label}",
+                    alpha,
+                    seed_alpha,
+                    f"{SEED} Table A1",
+                    wall,
+                    {
+                        "l1_over_l2": ratio,
+                        "grid": f"{N_GRID}x{N_GRID}",
+                        "mode": dom.mode,
+                        "shear_angle_rad": angle,
+                        "fit": "law through the point m/m3u = f/fsu",
+                    },
                     {
                         "alpha_lsq": alpha_lsq,
                         "misfit_seed_alpha": float(
@@ -274,19 +326,23 @@ def _bending_rows(curves: dict, quick: bool) -> list[Row]:
     for tag, (s1, s2) in {"m1": (1.0, 0.0), "m2": (0.0, 1.0), "m1m2": (1.0, 1.0)}.items():
         frac = np.linspace(0.0, 0.98, n_pts)
         start = time.perf_counter()
-        spring = np.array([
-            torsion_strength_with_bending(
-                interface, LAW, NORMAL_FORCE, s1 * x * m1_max, s2 * x * m2_max, L1, L2
-            )
-            for x in frac
-        ])
+        spring = np.array(
+            [
+                torsion_strength_with_bending(
+                    interface, LAW, NORMAL_FORCE, s1 * x * m1_max, s2 * x * m2_max, L1, L2
+                )
+                for x in frac
+            ]
+        )
         wall = time.perf_counter() - start
-        closed = np.array([
-            torsion_strength_with_bending_closed_form(
-                L1, L2, MU, NORMAL_FORCE, s1 * x * m1_max, s2 * x * m2_max
-            )
-            for x in frac
-        ])
+        closed = np.array(
+            [
+                torsion_strength_with_bending_closed_form(
+                    L1, L2, MU, NORMAL_FORCE, s1 * x * m1_max, s2 * x * m2_max
+                )
+                for x in frac
+            ]
+        )
         elastic = np.full(n_pts, np.nan)
         for i, x in enumerate(frac):
             try:
@@ -304,14 +360,17 @@ def _bending_rows(curves: dict, quick: bool) -> list[Row]:
         rows.append(
             Row(
                 f"torsion strength with bending ({tag} = 0.5 of rotation strength) [N m]",
-                float(spring[j]), float(closed[j]),
+                float(spring[j]),
+                float(closed[j]),
                 "Orduna & Lourenco (2005a) reduced rectangle, closed form c_T (seed 001 Fig. 10)",
-                wall / n_pts, {**BASE, "m1_nm": s1 * frac[j] * m1_max,
-                               "m2_nm": s2 * frac[j] * m2_max},
-                {"check": float(np.max(np.abs(spring - closed))),
-                 "check_method": "max abs(spring - closed) over the curve [N m]",
-                 "elastic_no_tension": float(elastic[j]),
-                 "curve": f"fig10_{tag}_*"},
+                wall / n_pts,
+                {**BASE, "m1_nm": s1 * frac[j] * m1_max, "m2_nm": s2 * frac[j] * m2_max},
+                {
+                    "check": float(np.max(np.abs(spring - closed))),
+                    "check_method": "max abs(spring - closed) over the curve [N m]",
+                    "elastic_no_tension": float(elastic[j]),
+                    "curve": f"fig10_{tag}_*",
+                },
             )
         )
     return rows
@@ -323,10 +382,12 @@ def _tensile_rows(curves: dict, quick: bool) -> list[Row]:
     sigma_t = np.linspace(0.0, 20e3, 21 if quick else 81)  # [Pa]
     c_t = torsion_coefficient_rectangle(L1, L2)
     start = time.perf_counter()
-    spring = np.array([
-        torsion_strength(interface, CoulombSpringLaw.from_tensile_strength(MU, s), NORMAL_FORCE)
-        for s in sigma_t
-    ])
+    spring = np.array(
+        [
+            torsion_strength(interface, CoulombSpringLaw.from_tensile_strength(MU, s), NORMAL_FORCE)
+            for s in sigma_t
+        ]
+    )
     wall = time.perf_counter() - start
     eq12 = c_t * MU * (sigma_t * L1 * L2 - NORMAL_FORCE)
     curves["figA1_sigma_t"], curves["figA1_spring"], curves["figA1_eq12"] = sigma_t, spring, eq12
@@ -337,16 +398,23 @@ def _tensile_rows(curves: dict, quick: bool) -> list[Row]:
     return [
         Row(
             f"torsion strength with sigma_t = {sigma_t[-1] / 1e3:g} kPa [N m]",
-            float(spring[-1]), float(eq12[-1]), f"{SEED} Eq. (12) with closed-form c_T",
+            float(spring[-1]),
+            float(eq12[-1]),
+            f"{SEED} Eq. (12) with closed-form c_T",
             wall / len(sigma_t),
             {**BASE, "sigma_t_pa": float(sigma_t[-1]), "cohesion": "mu sigma_t"},
-            {"check": float(epp.resultants[-1, 5]), "check_method": "EPP increments",
-             "curve": "figA1_*"},
+            {
+                "check": float(epp.resultants[-1, 5]),
+                "check_method": "EPP increments",
+                "curve": "figA1_*",
+            },
         ),
         Row(
             "shear strength with sigma_t = 20 kPa [N]",
             shear_strength(interface, law, NORMAL_FORCE),
-            MU * (sigma_t[-1] * L1 * L2 - NORMAL_FORCE), f"{SEED} Eq. (10)", None,
+            MU * (sigma_t[-1] * L1 * L2 - NORMAL_FORCE),
+            f"{SEED} Eq. (10)",
+            None,
             {**BASE, "sigma_t_pa": float(sigma_t[-1])},
         ),
     ]

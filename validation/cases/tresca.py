@@ -69,8 +69,14 @@ def _solve(packing, sigma_bc, s, solver, selection):
 
 def _certificate_rows(tag: str, res, settings: dict) -> list[Row]:
     return [
-        Row(f"{tag}: cell force imbalance / max cell load [-]", res.equilibrium_residual, 0.0,
-            SRC_CLOSED, res.wall_s, settings),
+        Row(
+            f"{tag}: cell force imbalance / max cell load [-]",
+            res.equilibrium_residual,
+            0.0,
+            SRC_CLOSED,
+            res.wall_s,
+            settings,
+        ),
         Row(f"{tag}: duality gap [J/m]", res.duality_gap, 0.0, SRC_CLOSED, res.wall_s, settings),
     ]
 
@@ -89,10 +95,22 @@ def _bed_joint_rows(packing, res, settings: dict) -> list[Row]:
         force_on_upper = np.sign(n[on, 1])[:, None] * force_on_b[on]
         total = force_on_upper.sum(axis=0)
         rows += [
-            Row(f"brick wall bed joint {k}: mean compressive traction [Pa]", total[1] / width,
-                PRESSURE, "closed form (equilibrium of the wall above)", res.wall_s, settings),
-            Row(f"brick wall bed joint {k}: mean shear traction [Pa]", -total[0] / width,
-                TAU_WALL, "closed form (equilibrium of the wall above)", res.wall_s, settings),
+            Row(
+                f"brick wall bed joint {k}: mean compressive traction [Pa]",
+                total[1] / width,
+                PRESSURE,
+                "closed form (equilibrium of the wall above)",
+                res.wall_s,
+                settings,
+            ),
+            Row(
+                f"brick wall bed joint {k}: mean shear traction [Pa]",
+                -total[0] / width,
+                TAU_WALL,
+                "closed form (equilibrium of the wall above)",
+                res.wall_s,
+                settings,
+            ),
         ]
     return rows
 
@@ -111,11 +129,26 @@ def run_verification(quick: bool) -> tuple[list[Row], str]:
             tag = f"{name} [{solver}/{selection}]"
             if (solver, selection) == ("CLARABEL", "min_energy"):
                 for e, value in enumerate(res.normal_stress):
-                    rows.append(Row(f"{tag} edge {e} normal stress [Pa]", float(value),
-                                    -PRESSURE, "closed form (seed 003 Sec. 4.3)", res.wall_s, st))
-            rows.append(Row(f"{tag}: max_e |sigma_nn + p| [Pa]",
-                            float(np.max(np.abs(res.normal_stress + PRESSURE))), 0.0,
-                            "closed form (seed 003 Sec. 4.3)", res.wall_s, st))
+                    rows.append(
+                        Row(
+                            f"{tag} edge {e} normal stress [Pa]",
+                            float(value),
+                            -PRESSURE,
+                            "closed form (seed 003 Sec. 4.3)",
+                            res.wall_s,
+                            st,
+                        )
+                    )
+            rows.append(
+                Row(
+                    f"{tag}: max_e |sigma_nn + p| [Pa]",
+                    float(np.max(np.abs(res.normal_stress + PRESSURE))),
+                    0.0,
+                    "closed form (seed 003 Sec. 4.3)",
+                    res.wall_s,
+                    st,
+                )
+            )
             rows += _certificate_rows(tag, res, st)
 
     # seed 003 Sec. 4.4: brick wall under shear
@@ -125,19 +158,35 @@ def run_verification(quick: bool) -> tuple[list[Row], str]:
         st = _settings(solver, selection, s_pa=S_WALL, tau_pa=TAU_WALL, **WALL)
         if selection == "solver":
             rows += _bed_joint_rows(wall, res, st)
-        rows.append(Row(f"brick wall [{solver}/{selection}]: max |shear| / s [-]",
-                        float(np.max(np.abs(res.shear_stress))) / S_WALL, None,
-                        "bounded by 1 (Tresca)", res.wall_s, st))
+        rows.append(
+            Row(
+                f"brick wall [{solver}/{selection}]: max |shear| / s [-]",
+                float(np.max(np.abs(res.shear_stress))) / S_WALL,
+                None,
+                "bounded by 1 (Tresca)",
+                res.wall_s,
+                st,
+            )
+        )
         rows += _certificate_rows(f"brick wall [{solver}/{selection}]", res, st)
     for solver in ("HIGHS", "CLARABEL"):
         mult = max_load_multiplier(
-            wall, uniform_stress_traction(wall, sigma_c),
-            uniform_stress_traction(wall, [[0.0, 1.0], [1.0, 0.0]]), S_WALL,
+            wall,
+            uniform_stress_traction(wall, sigma_c),
+            uniform_stress_traction(wall, [[0.0, 1.0], [1.0, 0.0]]),
+            S_WALL,
             TrescaSettings(solver=solver),
         )
-        rows.append(Row("brick wall: shear capacity tau_max / s [-]", mult.load_multiplier / S_WALL,
-                        1.0, "closed form (full-width bed joint)", mult.wall_s,
-                        _settings(solver, "load multiplier", s_pa=S_WALL, **WALL)))
+        rows.append(
+            Row(
+                "brick wall: shear capacity tau_max / s [-]",
+                mult.load_multiplier / S_WALL,
+                1.0,
+                "closed form (full-width bed joint)",
+                mult.wall_s,
+                _settings(solver, "load multiplier", s_pa=S_WALL, **WALL),
+            )
+        )
 
     # seed 003 Sec. 4.5: 60 cells, homogeneous compression
     hom = _hom_packing()
@@ -146,26 +195,56 @@ def run_verification(quick: bool) -> tuple[list[Row], str]:
     start = time.perf_counter()
     eq_u, fr_u = admissibility_residuals(hom, traction, S_VERIF, lam_u, ft_u)
     st0 = {"n_cells": HOM_CELLS, "seed": HOM_SEED, "s_pa": S_VERIF}
-    rows.append(Row("60 cells: uniform sigma=-I forces, cell imbalance [-]", eq_u, 0.0,
-                    "seed 003 Sec. 4.5 (-I is admissible)", time.perf_counter() - start, st0))
-    rows.append(Row("60 cells: uniform sigma=-I forces, Tresca/sign violation [-]",
-                    max(fr_u, 0.0), 0.0, "seed 003 Sec. 4.5 (-I is admissible)", None, st0))
+    rows.append(
+        Row(
+            "60 cells: uniform sigma=-I forces, cell imbalance [-]",
+            eq_u,
+            0.0,
+            "seed 003 Sec. 4.5 (-I is admissible)",
+            time.perf_counter() - start,
+            st0,
+        )
+    )
+    rows.append(
+        Row(
+            "60 cells: uniform sigma=-I forces, Tresca/sign violation [-]",
+            max(fr_u, 0.0),
+            0.0,
+            "seed 003 Sec. 4.5 (-I is admissible)",
+            None,
+            st0,
+        )
+    )
     for solver, selection in _VARIANTS:
         _, res = _solve(hom, sigma_c, S_VERIF, solver, selection)
         st = _settings(solver, selection, **st0)
         tag = f"60 cells [{solver}/{selection}]"
         homog = selection == "min_energy"
         rows += [
-            Row(f"{tag}: max_e |sigma_nn + p| [Pa]",
-                float(np.max(np.abs(res.normal_stress + PRESSURE))), 0.0 if homog else None,
-                SRC_CLOSED if homog else "seed 003 Sec. 4.5: not homogeneous", res.wall_s, st),
-            Row(f"{tag}: max_e |sigma_nn| / p [-]", float(np.max(-res.normal_stress)) / PRESSURE,
+            Row(
+                f"{tag}: max_e |sigma_nn + p| [Pa]",
+                float(np.max(np.abs(res.normal_stress + PRESSURE))),
+                0.0 if homog else None,
+                SRC_CLOSED if homog else "seed 003 Sec. 4.5: not homogeneous",
+                res.wall_s,
+                st,
+            ),
+            Row(
+                f"{tag}: max_e |sigma_nn| / p [-]",
+                float(np.max(-res.normal_stress)) / PRESSURE,
                 1.0 if homog else None,
                 SRC_CLOSED if homog else "seed 003 Sec. 4.5: exceeds 1 (concentration)",
-                res.wall_s, st),
-            Row(f"{tag}: open contacts (lambda < 1e-9 p|e|) [-]",
-                float(np.sum(res.normal_force < 1e-9 * PRESSURE * hom.edge_length)), None, "",
-                res.wall_s, st),
+                res.wall_s,
+                st,
+            ),
+            Row(
+                f"{tag}: open contacts (lambda < 1e-9 p|e|) [-]",
+                float(np.sum(res.normal_force < 1e-9 * PRESSURE * hom.edge_length)),
+                None,
+                "",
+                res.wall_s,
+                st,
+            ),
         ]
         rows += _certificate_rows(tag, res, st)
 
@@ -174,13 +253,26 @@ def run_verification(quick: bool) -> tuple[list[Row], str]:
             big = _hom_packing(n_cells)
             for solver, selection in _VARIANTS:
                 _, res = _solve(big, sigma_c, S_VERIF, solver, selection)
-                st = _settings(solver, selection, n_cells=n_cells, n_edges=big.n_edges,
-                               seed=HOM_SEED, s_pa=S_VERIF)
+                st = _settings(
+                    solver,
+                    selection,
+                    n_cells=n_cells,
+                    n_edges=big.n_edges,
+                    seed=HOM_SEED,
+                    s_pa=S_VERIF,
+                )
                 tag = f"{n_cells} cells [{solver}/{selection}]"
                 if selection == "min_energy":
-                    rows.append(Row(f"{tag}: max_e |sigma_nn + p| [Pa]",
-                                    float(np.max(np.abs(res.normal_stress + PRESSURE))), 0.0,
-                                    SRC_CLOSED, res.wall_s, st))
+                    rows.append(
+                        Row(
+                            f"{tag}: max_e |sigma_nn + p| [Pa]",
+                            float(np.max(np.abs(res.normal_stress + PRESSURE))),
+                            0.0,
+                            SRC_CLOSED,
+                            res.wall_s,
+                            st,
+                        )
+                    )
                 rows += _certificate_rows(tag, res, st)
 
     notes = (
@@ -241,7 +333,13 @@ _PAPER = {
 
 
 def _rt_rows(
-    tag: str, packing, traction, res, st: dict, expected=None, expected_source: str = SRC_CLOSED,
+    tag: str,
+    packing,
+    traction,
+    res,
+    st: dict,
+    expected=None,
+    expected_source: str = SRC_CLOSED,
     paper: tuple[str, ...] = (),
 ) -> tuple[list[Row], dict]:
     ft = facet_tractions(packing, res, traction)
@@ -262,42 +360,103 @@ def _rt_rows(
         return None, _PAPER.get(name, "") if name in paper else ""
 
     rows = [
-        Row(f"{tag}: traction continuity max |sigma_a n_a + sigma_b n_b| [Pa]",
-            _traction_continuity(packing, rec), 0.0, "closed form (RT0 conformity, Remark 5)",
-            rec.wall_s, st),
-        Row(f"{tag}: weak symmetry max_T |int_T (s_xy - s_yx)| / (|T| p) [-]",
-            float(rec.weak_symmetry_residual.max()) / (scale * area / len(rec.tri_area)), 0.0,
-            SRC_CLOSED, rec.wall_s, st),
-        Row(f"{tag}: ||div sigma||_L2 / (p sqrt|Omega|) [1/m]",
-            float(np.sqrt(np.sum(rec.div_norm**2))) / (scale * np.sqrt(area)), *ref("div", 0.0),
-            rec.wall_s, st),
-        Row(f"{tag}: ||s_xy - s_yx||_L2 / (p |Omega|^0.5) [-]",
+        Row(
+            f"{tag}: traction continuity max |sigma_a n_a + sigma_b n_b| [Pa]",
+            _traction_continuity(packing, rec),
+            0.0,
+            "closed form (RT0 conformity, Remark 5)",
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: weak symmetry max_T |int_T (s_xy - s_yx)| / (|T| p) [-]",
+            float(rec.weak_symmetry_residual.max()) / (scale * area / len(rec.tri_area)),
+            0.0,
+            SRC_CLOSED,
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: ||div sigma||_L2 / (p sqrt|Omega|) [1/m]",
+            float(np.sqrt(np.sum(rec.div_norm**2))) / (scale * np.sqrt(area)),
+            *ref("div", 0.0),
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: ||s_xy - s_yx||_L2 / (p |Omega|^0.5) [-]",
             float(np.sqrt(np.sum(rec.skew_norm**2))) / (scale * np.sqrt(area)),
-            *ref("skew", 0.0), rec.wall_s, st),
-        Row(f"{tag}: max pointwise |s_xy - s_yx| / p [-]", float(skew_pt.max()) / scale,
-            *ref("skew", 0.0), rec.wall_s, st),
-        Row(f"{tag}: max stress jump across internal edges / p [-]",
-            _stress_jump(packing, rec) / scale, *ref("jump", 0.0), rec.wall_s, st),
-        Row(f"{tag}: max_c |M_c - int_c (x-C) x div sigma| [N m/m]", float(identity.max()), 0.0,
-            "closed form (Green identity)", rec.wall_s, st),
-        Row(f"{tag}: max_c |traction moment M_c| / (p |Omega|/n_c) [-]",
+            *ref("skew", 0.0),
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: max pointwise |s_xy - s_yx| / p [-]",
+            float(skew_pt.max()) / scale,
+            *ref("skew", 0.0),
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: max stress jump across internal edges / p [-]",
+            _stress_jump(packing, rec) / scale,
+            *ref("jump", 0.0),
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: max_c |M_c - int_c (x-C) x div sigma| [N m/m]",
+            float(identity.max()),
+            0.0,
+            "closed form (Green identity)",
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: max_c |traction moment M_c| / (p |Omega|/n_c) [-]",
             float(np.abs(rec.traction_moment).max()) / (scale * area / packing.n_cells),
-            *ref("moment", 0.0), rec.wall_s, st),
-        Row(f"{tag}: cells in tension (max principal of mean stress > 1e-9 p) [-]",
-            float(np.sum(principal[:, 1] > 1e-9 * scale)), *ref("tension", 0.0), rec.wall_s, st),
-        Row(f"{tag}: max |sigma| (2-norm, vertices) / p [-]",
+            *ref("moment", 0.0),
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: cells in tension (max principal of mean stress > 1e-9 p) [-]",
+            float(np.sum(principal[:, 1] > 1e-9 * scale)),
+            *ref("tension", 0.0),
+            rec.wall_s,
+            st,
+        ),
+        Row(
+            f"{tag}: max |sigma| (2-norm, vertices) / p [-]",
             float(np.max(np.linalg.norm(rec.sigma_vertex, ord=2, axis=(-2, -1)))) / scale,
-            *ref("concentration", 1.0), rec.wall_s, st),
+            *ref("concentration", 1.0),
+            rec.wall_s,
+            st,
+        ),
     ]
     if exact:
         err = np.abs(rec.sigma_vertex - expected).max(axis=(1, 2, 3))
-        rows.append(Row(f"{tag}: max |sigma - sigma_exact| over all vertices [Pa]",
-                        float(err.max()), 0.0, expected_source, rec.wall_s, st))
+        rows.append(
+            Row(
+                f"{tag}: max |sigma - sigma_exact| over all vertices [Pa]",
+                float(err.max()),
+                0.0,
+                expected_source,
+                rec.wall_s,
+                st,
+            )
+        )
     fields = {
-        "cell_ptr": packing.cell_ptr, "cell_xy": packing.cell_xy, "edge_xy": packing.edge_xy,
-        "normal_force": res.normal_force, "edge_length": packing.edge_length,
-        "centres": packing.centres, "tri_xy": rec.tri_xy, "tri_cell": rec.tri_cell,
-        "sigma_mean": rec.sigma_mean, "sigma_vertex": rec.sigma_vertex,
+        "cell_ptr": packing.cell_ptr,
+        "cell_xy": packing.cell_xy,
+        "edge_xy": packing.edge_xy,
+        "normal_force": res.normal_force,
+        "edge_length": packing.edge_length,
+        "centres": packing.centres,
+        "tri_xy": rec.tri_xy,
+        "tri_cell": rec.tri_cell,
+        "sigma_mean": rec.sigma_mean,
+        "sigma_vertex": rec.sigma_vertex,
         "cell_stress": rec.cell_stress,
     }
     return rows, fields
@@ -309,12 +468,24 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
     npz: dict[str, np.ndarray] = {}
     sigma_c = -PRESSURE * np.eye(2)
 
-    def add(key, tag, packing, sigma_bc, s, solver, selection, expected=None,
-            expected_source=SRC_CLOSED, paper=(), **extra):
+    def add(
+        key,
+        tag,
+        packing,
+        sigma_bc,
+        s,
+        solver,
+        selection,
+        expected=None,
+        expected_source=SRC_CLOSED,
+        paper=(),
+        **extra,
+    ):
         traction, res = _solve(packing, sigma_bc, s, solver, selection)
         st = _settings(solver, selection, s_pa=s, **extra)
-        new_rows, fields = _rt_rows(tag, packing, traction, res, st, expected, expected_source,
-                                    paper)
+        new_rows, fields = _rt_rows(
+            tag, packing, traction, res, st, expected, expected_source, paper
+        )
         rows.extend(new_rows)
         for name, value in fields.items():
             npz[f"{key}__{name}"] = np.asarray(value)
@@ -322,44 +493,133 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
 
     for name in ("four-cells", "five-cells"):
         packing = verification_packing(name)
-        fields = add(name, f"{name} [CLARABEL/min_energy]", packing, sigma_c, S_VERIF,
-                     "CLARABEL", "min_energy", expected=sigma_c, mesh=name)
+        fields = add(
+            name,
+            f"{name} [CLARABEL/min_energy]",
+            packing,
+            sigma_c,
+            S_VERIF,
+            "CLARABEL",
+            "min_energy",
+            expected=sigma_c,
+            mesh=name,
+        )
         # per-cell rows: the uniform stress in every cell (seed 003 Figs. 6b, 7b)
         for c, cell_sigma in enumerate(fields["cell_stress"]):
-            rows.append(Row(f"{name} cell {c}: mean sigma_xx [Pa]", float(cell_sigma[0, 0]),
-                            -PRESSURE, "closed form (seed 003 Sec. 4.3)", None, {"mesh": name}))
-            rows.append(Row(f"{name} cell {c}: mean sigma_yy [Pa]", float(cell_sigma[1, 1]),
-                            -PRESSURE, "closed form (seed 003 Sec. 4.3)", None, {"mesh": name}))
+            rows.append(
+                Row(
+                    f"{name} cell {c}: mean sigma_xx [Pa]",
+                    float(cell_sigma[0, 0]),
+                    -PRESSURE,
+                    "closed form (seed 003 Sec. 4.3)",
+                    None,
+                    {"mesh": name},
+                )
+            )
+            rows.append(
+                Row(
+                    f"{name} cell {c}: mean sigma_yy [Pa]",
+                    float(cell_sigma[1, 1]),
+                    -PRESSURE,
+                    "closed form (seed 003 Sec. 4.3)",
+                    None,
+                    {"mesh": name},
+                )
+            )
         # the paper's solver returned sigma = -I on both meshes (seed 003 Figs. 6b, 7b)
-        add(f"{name}-raw", f"{name} [CLARABEL/solver]", packing, sigma_c, S_VERIF, "CLARABEL",
-            "solver", expected=sigma_c, expected_source="seed 003 Sec. 4.3 (sigma = -I)",
-            mesh=name)
+        add(
+            f"{name}-raw",
+            f"{name} [CLARABEL/solver]",
+            packing,
+            sigma_c,
+            S_VERIF,
+            "CLARABEL",
+            "solver",
+            expected=sigma_c,
+            expected_source="seed 003 Sec. 4.3 (sigma = -I)",
+            mesh=name,
+        )
 
     wall = brick_wall_packing(**WALL)
-    add("brick-wall", "brick wall [CLARABEL/solver]", wall, _wall_sigma(), S_WALL, "CLARABEL",
-        "solver", paper=("skew", "jump"), tau_pa=TAU_WALL, **WALL)
-    add("brick-wall-min-energy", "brick wall [CLARABEL/min_energy]", wall, _wall_sigma(), S_WALL,
-        "CLARABEL", "min_energy", paper=("skew", "jump"), tau_pa=TAU_WALL, **WALL)
+    add(
+        "brick-wall",
+        "brick wall [CLARABEL/solver]",
+        wall,
+        _wall_sigma(),
+        S_WALL,
+        "CLARABEL",
+        "solver",
+        paper=("skew", "jump"),
+        tau_pa=TAU_WALL,
+        **WALL,
+    )
+    add(
+        "brick-wall-min-energy",
+        "brick wall [CLARABEL/min_energy]",
+        wall,
+        _wall_sigma(),
+        S_WALL,
+        "CLARABEL",
+        "min_energy",
+        paper=("skew", "jump"),
+        tau_pa=TAU_WALL,
+        **WALL,
+    )
 
     hom = _hom_packing()
     hom_st = {"n_cells": HOM_CELLS, "seed": HOM_SEED}
-    add("hom60", "60 cells [CLARABEL/solver]", hom, sigma_c, S_VERIF, "CLARABEL", "solver",
-        paper=("tension", "concentration"), **hom_st)
-    add("hom60-highs", "60 cells [HIGHS/solver]", hom, sigma_c, S_VERIF, "HIGHS", "solver",
-        paper=("tension", "concentration"), **hom_st)
-    add("hom60-min-energy", "60 cells [CLARABEL/min_energy]", hom, sigma_c, S_VERIF, "CLARABEL",
-        "min_energy", expected=sigma_c, **hom_st)
+    add(
+        "hom60",
+        "60 cells [CLARABEL/solver]",
+        hom,
+        sigma_c,
+        S_VERIF,
+        "CLARABEL",
+        "solver",
+        paper=("tension", "concentration"),
+        **hom_st,
+    )
+    add(
+        "hom60-highs",
+        "60 cells [HIGHS/solver]",
+        hom,
+        sigma_c,
+        S_VERIF,
+        "HIGHS",
+        "solver",
+        paper=("tension", "concentration"),
+        **hom_st,
+    )
+    add(
+        "hom60-min-energy",
+        "60 cells [CLARABEL/min_energy]",
+        hom,
+        sigma_c,
+        S_VERIF,
+        "CLARABEL",
+        "min_energy",
+        expected=sigma_c,
+        **hom_st,
+    )
 
     if not quick:
         for n_cells in (250, 1000):
             big = _hom_packing(n_cells)
             traction, res = _solve(big, sigma_c, S_VERIF, "CLARABEL", "solver")
             start = time.perf_counter()
-            rec = reconstruct_stress(big.cell_ptr, big.cell_xy, big.centres,
-                                     facet_tractions(big, res, traction))
-            rows.append(Row(f"{n_cells} cells: RT0 batched wall time [s]",
-                            time.perf_counter() - start, None, "", rec.wall_s,
-                            {"n_cells": n_cells, "n_triangles": len(rec.tri_area)}))
+            rec = reconstruct_stress(
+                big.cell_ptr, big.cell_xy, big.centres, facet_tractions(big, res, traction)
+            )
+            rows.append(
+                Row(
+                    f"{n_cells} cells: RT0 batched wall time [s]",
+                    time.perf_counter() - start,
+                    None,
+                    "",
+                    rec.wall_s,
+                    {"n_cells": n_cells, "n_triangles": len(rec.tri_area)},
+                )
+            )
 
     fields = output_dir() / FIELDS_NPZ
     fields.parent.mkdir(parents=True, exist_ok=True)
