@@ -80,8 +80,8 @@ def step_cost(model: ExplicitModel, n_steps: int) -> dict:
     def loop(contacts, law, reset):
         def run():
             reset(sc)
-            kernel(model.surface, contacts, st.motion, model.bodies, model.shapes, law, 1e-9,
-                   sc, model.pairs, False)  # fmt: skip
+            constants = (model.surface, model.bodies, model.shapes, law)
+            kernel(constants, (contacts, st.motion), 1e-9, sc, model.pairs, False)
 
         return run
 

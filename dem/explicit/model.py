@@ -205,6 +205,12 @@ class ExplicitModel:
         return self.state.t
 
     @property
+    def constants(self) -> tuple[Nodes, Bodies, Shapes, Law]:
+        """The model's constants as the kernels take them: (surface nodes, bodies, shapes,
+        law)."""
+        return self.surface, self.bodies, self.shapes, self.law
+
+    @property
     def n_entries(self) -> int:
         """Entries in the neighbour list."""
         return len(self.state.contacts.node)
@@ -384,8 +390,8 @@ class ExplicitModel:
         scratch = Scratch.empty(self.n_blocks, self.n_entries)
         quat_to_rot(self.quat, scratch.rot)
         contacts = self.state.contacts._replace(shear=self.state.contacts.shear.copy())
-        node_contacts(self.surface, contacts, self.state.motion, self.bodies, self.shapes,
-                      self.law, 0.0, scratch, self.pairs, True)  # fmt: skip
+        node_contacts(self.constants, (contacts, self.state.motion), 0.0, scratch, self.pairs,
+                      True)  # fmt: skip
         return scratch
 
     def contact_wrenches(self, sphere: tuple | None = None) -> tuple[np.ndarray, ...]:
@@ -455,13 +461,13 @@ class ExplicitModel:
                 radius=float(indenter["radius"]),
                 velocity=np.asarray(indenter["velocity"], dtype=float),
             )
+        stepping = (self.dt, alpha, self.settings.local_damping, self.parallel)
         left = int(n_steps)
         while left > 0:
             with _dynamic_schedule(self.parallel):
                 done, status, self.state.t = run_steps(
-                    left, self.dt, self.state.t, alpha, self.settings.local_damping,
-                    self.parallel, self.bodies, self.shapes, self.surface, self.law,
-                    self.state.motion, self.state.contacts, self.scratch, self.pairs, sphere, acc,
+                    left, self.state.t, stepping, self.constants,
+                    (self.state.contacts, self.state.motion), self.scratch, self.pairs, sphere, acc,
                 )  # fmt: skip
             left -= done
             if status == STATUS_NOT_FINITE:

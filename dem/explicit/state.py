@@ -127,7 +127,7 @@ class Law(NamedTuple):
     mu_rule : int
         How two blocks' coefficients combine (0 mean, 1 min).
     compat_cos : float
-        Normal-compatible face planes (see :func:`dem.kernels.contact_force.contact_entries`);
+        Normal-compatible face planes (see :func:`dem.kernels.contact_force._compatible_plane`);
         above 1: off (nearest plane).
     margin : float
         Neighbour-list margin [m].
@@ -289,7 +289,7 @@ class Scratch(NamedTuple):
         Penetration of each entry [m] (negative: separation).
     skip_gap, skip_drift : (m,) float64
         Separation of an entry when last evaluated, and ``drift[a] + drift[b]`` then [m]
-        (0: evaluate); see :func:`dem.kernels.contact_force.contact_entries`.
+        (0: evaluate); see :mod:`dem.kernels.contact_force`.
     drift : (n,) float64
         Bound on the distance any point of each block has moved since the scratch was made
         (accumulated every step) [m].

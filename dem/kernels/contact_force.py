@@ -21,7 +21,32 @@ The per-item law is :func:`traction_one` (scalars only); :func:`contact_entries`
 range of entries, writes only their rows and adds their wrenches to the block forces and
 moments it is given, in entry order: :func:`node_contacts` passes the step's totals (one
 pass over the entries), :func:`node_contacts_parallel` one buffer per ``prange`` chunk, added
-in chunk order afterwards (deterministic, so runs are reproducible).
+in chunk order afterwards (deterministic, so runs are reproducible). The kernels take the
+model's constants as one tuple ``model = (nodes, bodies, shapes, law)`` and the state as
+``state = (contacts, motion)`` (:mod:`dem.explicit.state`).
+
+Plane choice with face planes: with ``law.compat_cos <= 1`` a node takes the normal-compatible
+plane (:func:`_compatible_plane`); above 1 the nearest plane, the exact convex signed distance,
+which gives a node on an edge shared with ``b`` the depth ``min(d_c, -delta)``, about zero, so
+a hinge along such an edge carries nothing there; only the one or two faces of
+``pairs.near_faces`` are tested when the entry has them (the same result).
+
+Separated entries are skipped while they cannot touch. With face planes, a node at plane
+distance ``phi > 0`` outside ``b`` must move by at least ``phi`` relative to ``b`` before it
+can penetrate. ``drift[k]`` accumulates a bound on how far any point of block ``k`` within the
+list's reach has moved (:func:`dem.kernels.integrate.run_steps`); an entry found separated
+stores ``skip_gap = phi`` (compatible plane: half of ``max(0, delta) - d_c``, which changes at
+most twice as fast as the node moves) and ``skip_drift = drift[a] + drift[b]`` and is not
+evaluated again until ``drift[a] + drift[b] - skip_drift >= skip_gap``. Its force and shear
+history are zero meanwhile, as an evaluation would give: the result is exactly that of
+evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated values).
+Level sets are not a distance bound: no skipping there.
+
+The helpers of the entry loop take and return scalars and tuples of scalars, inlined
+(``inline="always"``); the plane choice and the writes into the entry arrays stay in
+:func:`contact_entries`: a helper taking the face arrays there, inlined or not, brought back
+numba's reference counting and made the loop two to three times slower (numba 0.68,
+``benchmarks/bench_explicit.py``).
 """
 
 import math
@@ -47,35 +72,36 @@ def pair_mu(mu_a, mu_b, rule):
 
 
 @njit(cache=True, inline="always")
-def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, beta, dt):
+def traction_one(depth, normal, v_rel, shear, law, dt):
     """Contact law of one node: normal penalty with dashpot and regularised Coulomb friction.
 
     Parameters
     ----------
     depth : float
         Penetration ``d > 0`` [m].
-    n0, n1, n2 : float
+    normal : (float, float, float)
         Unit normal, pointing out of the neighbour (towards the node's block).
-    vr0, vr1, vr2 : float
+    v_rel : (float, float, float)
         Velocity of the node's material point relative to the neighbour's [m/s].
-    s0, s1, s2 : float
+    shear : (float, float, float)
         Shear history at the start of the step [m].
-    k_n, k_t : float
-        Penalties [Pa/m].
-    mu : float
-        Friction coefficient.
-    beta : float
-        Normal dashpot [s].
+    law : (float, float, float, float)
+        ``(k_n, k_t, mu, beta)``: penalties [Pa/m], friction coefficient [-], normal
+        dashpot [s].
     dt : float
-        [s].
+        Time step [s].
 
     Returns
     -------
-    t0, t1, t2 : float
+    traction : (float, float, float)
         Traction on the node's block [Pa].
-    s0, s1, s2 : float
+    shear : (float, float, float)
         Updated shear history [m].
     """
+    n0, n1, n2 = normal
+    vr0, vr1, vr2 = v_rel
+    s0, s1, s2 = shear
+    k_n, k_t, mu, beta = law
     vn = vr0 * n0 + vr1 * n1 + vr2 * n2
     # penetration rate is -vn (a's point moving against n goes deeper into b)
     sigma = k_n * (depth - beta * vn)
@@ -114,7 +140,7 @@ def traction_one(depth, n0, n1, n2, vr0, vr1, vr2, s0, s1, s2, k_n, k_t, mu, bet
         s0 = 0.0
         s1 = 0.0
         s2 = 0.0
-    return t0, t1, t2, s0, s1, s2
+    return (t0, t1, t2), (s0, s1, s2)
 
 
 @njit(cache=True)
@@ -175,8 +201,7 @@ def pair_frames(motion, rot, bodies, shapes, pairs):
 
 
 @njit(cache=True)
-def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law, dt, scratch,
-                    pairs, record, sums):  # fmt: skip
+def contact_entries(e_begin, e_end, model, state, dt, scratch, pairs, record, sums):
     """Forces of entries ``e_begin:e_end``: updates their shear and adds their wrenches to the
     sums of their pairs.
 
@@ -184,118 +209,72 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
     ----------
     e_begin, e_end : int
         Range of entries.
-    nodes : Nodes
-        Surface nodes (``block``, ``r0``, ``n0``, ``area``), see :mod:`dem.explicit.state`.
-    contacts : Contacts
-        The entries (``node``, ``block``, ``weight``) and their shear history ``shear``
-        [m] (updated in place).
-    motion : Motion
-        Block poses (``pos``, for the recorded points).
-    bodies : Bodies
-        ``block_mu`` (the pair's coefficient by ``law.mu_rule``).
-    shapes : Shapes
-        Level-set grids (``use_level_set``; the face planes come through ``pairs``).
-    law : Law
-        ``k_n``, ``k_t`` [Pa/m], ``beta`` [s], ``mu_rule`` and ``compat_cos``: with face
-        planes, a node takes its normal from the nearest plane among ``b``'s faces whose
-        normal is within ``acos(compat_cos)`` of the reverse of the node's face normal, and
-        the penetration ``d_c`` below that plane less ``max(0, delta)``, ``delta`` the
-        distance outside ``b``'s other face planes (the nearest one, negative inside): full
-        depth up to ``b``'s edges, going continuously to zero over an overhang equal to the
-        depth. A node more than the list's ``margin`` [m] below that plane (or with no such
-        face) cannot have come in through it within a list period: it takes the nearest
-        plane (a node on the side face of a block standing on a longer block is on that
-        block's top plane and far below its end face). A ``compat_cos``
-        above 1 switches this off: nearest plane always, the exact convex signed distance,
-        which gives a node on an edge shared with ``b`` the depth ``min(d_c, -delta)``,
-        about zero, so a hinge along such an edge carries nothing there; only the one or two
-        faces of ``pairs.near_faces`` are tested when the entry has them (the same result).
+    model : (Nodes, Bodies, Shapes, Law)
+        The model's constants (:mod:`dem.explicit.state`): surface nodes (``r0`` [m], ``n0``,
+        ``area`` [m^2]), ``block_mu`` (the pair's coefficient by ``law.mu_rule``), level-set
+        grids (``use_level_set``; the face planes come through ``pairs``) and the law
+        (``k_n``, ``k_t`` [Pa/m], ``beta`` [s], ``margin`` [m], ``compat_cos``: the plane
+        choice, see the module docstring).
+    state : (Contacts, Motion)
+        The entries (``node``, ``weight``) with their shear history ``shear`` (m, 3) [m],
+        updated in place, and the block poses (``pos`` [m], for the recorded points).
     dt : float
         Time step [s].
     scratch : Scratch
         ``rot`` (n, 3, 3) rotations of the current poses (input); ``out_depth`` (m,):
         penetration ``d`` [m] (negative: separation, lower bound); ``skip_gap``,
-        ``skip_drift`` (m,) and ``drift`` (n,) [m]: see Notes.
+        ``skip_drift`` (m,) and ``drift`` (n,) [m]: skipping of separated entries (module
+        docstring).
     pairs : PairFrames
         The entries' block pairs with the frames of :func:`pair_frames`; the entries are
         handled run by run (``run_ptr``), a range may start and end inside a run.
     record : bool
-        Also write ``scratch.out_force`` (force on the node's block [N]) and
-        ``scratch.out_point`` (the node [m]) of every evaluated entry.
+        Also write ``scratch.out_force`` (m, 3) (force on the node's block [N]) and
+        ``scratch.out_point`` (m, 3) (the node [m]) of every evaluated entry.
     sums : (p, 6) float64
         Accumulated in place, in entry order: per pair, the forces of its entries on ``a``
         [N] and their moments about ``c_a`` [N m] (:func:`pair_wrenches` turns them into
         block wrenches).
-
-    Notes
-    -----
-    Separated entries are skipped while they cannot touch. With face planes, a node at plane
-    distance ``phi > 0`` outside ``b`` must move by at least ``phi`` relative to ``b`` before
-    it can penetrate. ``drift[k]`` accumulates a bound on how far any point of block ``k``
-    within the list's reach has moved (:func:`dem.kernels.integrate.run_steps`); an entry found
-    separated stores ``skip_gap = phi`` (compatible plane: half of ``max(0, delta) - d_c``,
-    which changes at most twice as fast as the node moves) and ``skip_drift = drift[a] +
-    drift[b]`` and is not evaluated again until ``drift[a] + drift[b] - skip_drift >=
-    skip_gap``. Its force and
-    shear history are zero meanwhile, as an evaluation would give: the result is exactly that
-    of evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated
-    values). Level sets are not a distance bound: no skipping there.
-
-    One function on purpose (numba 0.68): the loop over a run's entries inlined from a helper
-    taking the state's tuples paid about 80 reference counts per run, and a plane choice
-    inlined from a helper with early returns made every entry 1.5 times slower
-    (``benchmarks/bench_explicit.py``).
     """
+    nodes, bodies, shapes, law = model
+    contacts, motion = state
     pair_node, pair_weight, pair_shear = contacts.node, contacts.weight, contacts.shear
     node_r0, node_n0, node_area = nodes.r0, nodes.n0, nodes.area
-    rot, drift, block_mu = scratch.rot, scratch.drift, bodies.block_mu
-    run_ptr, run_pair, near_faces = pairs.run_ptr, pairs.run_pair, pairs.near_faces
-    face_v, face_u, face_d = pairs.face_v, pairs.face_u, pairs.face_d
-    use_level_set, k_n, k_t, beta = shapes.use_level_set, law.k_n, law.k_t, law.beta
-    compat_cos, margin = law.compat_cos, law.margin
-    out_depth, skip_gap, skip_drift = scratch.out_depth, scratch.skip_gap, scratch.skip_drift
-    out_force, out_point, pos = scratch.out_force, scratch.out_point, motion.pos
+    rot, drift, out_depth = scratch.rot, scratch.drift, scratch.out_depth
+    skip_gap, skip_drift, use_level_set = scratch.skip_gap, scratch.skip_drift, shapes.use_level_set
+    run_ptr, near_faces, face_v, face_d, face_u = (
+        pairs.run_ptr, pairs.near_faces, pairs.face_v, pairs.face_d, pairs.face_u
+    )  # fmt: skip
     k = np.searchsorted(run_ptr, e_begin, side="right") - 1  # the run holding e_begin
     e_run = e_begin
     while e_run < e_end:
         # one run of entries of pair q: its data once (the same arithmetic as per entry)
-        q = run_pair[k]
+        q = pairs.run_pair[k]
         e_stop = min(run_ptr[k + 1], e_end)
-        a, b = pairs.a[q], pairs.b[q]
-        f_begin, f_end = pairs.face_ptr[q], pairs.face_ptr[q + 1]
-        drift_ab = drift[a] + drift[b]
-        r00, r01, r02 = rot[a, 0, 0], rot[a, 0, 1], rot[a, 0, 2]
-        r10, r11, r12 = rot[a, 1, 0], rot[a, 1, 1], rot[a, 1, 2]
-        r20, r21, r22 = rot[a, 2, 0], rot[a, 2, 1], rot[a, 2, 2]
-        v0, v1, v2 = pairs.vel[q, 0], pairs.vel[q, 1], pairs.vel[q, 2]
-        w0, w1, w2 = pairs.omega[q, 0], pairs.omega[q, 1], pairs.omega[q, 2]
-        mu = pair_mu(block_mu[a], block_mu[b], law.mu_rule)
-        s_f0, s_f1, s_f2 = sums[q, 0], sums[q, 1], sums[q, 2]
-        s_m0, s_m1, s_m2 = sums[q, 3], sums[q, 4], sums[q, 5]
+        a, b, faces, drift_ab, rot_a, vw, law_q = _run_frame(q, pairs, rot, drift, bodies, law)
+        s_f, s_m = (sums[q, 0], sums[q, 1], sums[q, 2]), (sums[q, 3], sums[q, 4], sums[q, 5])
         # unsigned indices: numba wraps negative signed ones, a compare and a select per access
         for e in range(np.uint64(e_run), np.uint64(e_stop)):
             gap = skip_gap[e]
             if gap > 0.0 and drift_ab - skip_drift[e] < gap:
-                continue  # still separated: its force and shear history are zero (see Notes)
+                continue  # still separated: its force and shear history are zero
             i = np.uint64(pair_node[e])
-            r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
+            r0 = r0x, r0y, r0z = node_r0[i, 0], node_r0[i, 1], node_r0[i, 2]
+            # the plane choice stays here: no helper taking arrays (module docstring)
             if use_level_set:
-                phi, n0, n1, n2 = _level_set_plane(r0x, r0y, r0z, q, b, pairs.to_b,
-                                                   pairs.shift, rot, shapes)  # fmt: skip
+                phi, n = _level_set_plane(r0, q, b, pairs.to_b, pairs.shift, rot, shapes)
                 bound = 0.0
             else:
-                if compat_cos <= 1.0:
-                    phi, f_c, bound = _compatible_plane(
-                        r0x, r0y, r0z, node_n0[i, 0], node_n0[i, 1], node_n0[i, 2], face_v,
-                        face_d, f_begin, f_end, compat_cos, margin,
-                    )  # fmt: skip
+                if law.compat_cos <= 1.0:
+                    m = (node_n0[i, 0], node_n0[i, 1], node_n0[i, 2])
+                    phi, f_c, bound = _compatible_plane(r0, m, face_v, face_d, faces, law)
                     f = np.uint64(f_c)
                 elif near_faces[e, 0] >= 0:
-                    f = np.uint64(f_begin + near_faces[e, 0])
+                    f = np.uint64(faces[0] + near_faces[e, 0])
                     phi = face_v[f, 0] * r0x + face_v[f, 1] * r0y + face_v[f, 2] * r0z - face_d[f]
                     if near_faces[e, 1] >= 0:
                         # the later face wins only when strictly larger, as in the full scan
-                        g = np.uint64(f_begin + near_faces[e, 1])
+                        g = np.uint64(faces[0] + near_faces[e, 1])
                         dist = (
                             face_v[g, 0] * r0x + face_v[g, 1] * r0y + face_v[g, 2] * r0z
                             - face_d[g]
@@ -304,61 +283,109 @@ def contact_entries(e_begin, e_end, nodes, contacts, motion, bodies, shapes, law
                             phi, f = dist, g
                     bound = phi
                 else:
-                    phi, f_c = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, f_begin, f_end)
+                    phi, f_c = convex_sdf_one(r0x, r0y, r0z, face_v, face_d, faces[0], faces[1])
                     f = np.uint64(f_c)
                     bound = phi
-                n0, n1, n2 = face_u[f, 0], face_u[f, 1], face_u[f, 2]
+                n = (face_u[f, 0], face_u[f, 1], face_u[f, 2])
             out_depth[e] = -phi
             touching = phi < 0.0 and pair_weight[e] != 0.0
             if not touching:
-                pair_shear[e, 0] = 0.0
-                pair_shear[e, 1] = 0.0
-                pair_shear[e, 2] = 0.0
+                pair_shear[e, 0], pair_shear[e, 1], pair_shear[e, 2] = 0.0, 0.0, 0.0
                 if not use_level_set and bound > 0.0:
-                    skip_gap[e] = bound
-                    skip_drift[e] = drift_ab
+                    skip_gap[e], skip_drift[e] = bound, drift_ab
                 if not record:
                     continue
             else:
                 skip_gap[e] = 0.0
-            rx = r00 * r0x + r01 * r0y + r02 * r0z
-            ry = r10 * r0x + r11 * r0y + r12 * r0z
-            rz = r20 * r0x + r21 * r0y + r22 * r0z
-            f0 = f1 = f2 = 0.0
+            r = _rotate(rot_a, r0)
+            force = (0.0, 0.0, 0.0)
             if touching:
-                # relative velocity of a's material point against b's material point at x
-                t0, t1, t2, s0, s1, s2 = traction_one(
-                    -phi, n0, n1, n2, v0 + w1 * rz - w2 * ry, v1 + w2 * rx - w0 * rz,
-                    v2 + w0 * ry - w1 * rx, pair_shear[e, 0], pair_shear[e, 1],
-                    pair_shear[e, 2], k_n, k_t, mu, beta, dt,
-                )  # fmt: skip
-                pair_shear[e, 0] = s0
-                pair_shear[e, 1] = s1
-                pair_shear[e, 2] = s2
+                shear = (pair_shear[e, 0], pair_shear[e, 1], pair_shear[e, 2])
                 area = node_area[i] * pair_weight[e]
-                f0, f1, f2 = t0 * area, t1 * area, t2 * area
-                s_f0 += f0
-                s_f1 += f1
-                s_f2 += f2
-                s_m0 += ry * f2 - rz * f1
-                s_m1 += rz * f0 - rx * f2
-                s_m2 += rx * f1 - ry * f0
+                force, shear = _node_force(-phi, n, r, vw, shear, law_q, dt, area)
+                pair_shear[e, 0], pair_shear[e, 1], pair_shear[e, 2] = shear
+                s_f, s_m = _add_wrench(s_f, s_m, r, force)
             if record:
-                out_force[e, 0] = f0
-                out_force[e, 1] = f1
-                out_force[e, 2] = f2
-                out_point[e, 0] = pos[a, 0] + rx
-                out_point[e, 1] = pos[a, 1] + ry
-                out_point[e, 2] = pos[a, 2] + rz
-        sums[q, 0], sums[q, 1], sums[q, 2] = s_f0, s_f1, s_f2
-        sums[q, 3], sums[q, 4], sums[q, 5] = s_m0, s_m1, s_m2
+                _record(scratch, e, force, motion.pos, a, r)
+        sums[q, 0], sums[q, 1], sums[q, 2] = s_f
+        sums[q, 3], sums[q, 4], sums[q, 5] = s_m
         e_run = e_stop
         k += 1
 
 
+@njit(cache=True, inline="always")
+def _run_frame(q, pairs, rot, drift, bodies, law):
+    """Data of pair ``q`` shared by its entries: blocks ``a``, ``b``; its face rows
+    ``(begin, end)``; ``drift[a] + drift[b]`` [m]; ``a``'s rotation (rows); ``(v, w)``, the
+    pair's relative velocity [m/s] and angular velocity [rad/s] (:func:`pair_frames`); the
+    law's scalars ``(k_n, k_t, mu, beta)`` with the pair's friction coefficient."""
+    a, b = pairs.a[q], pairs.b[q]
+    rot_a = (
+        (rot[a, 0, 0], rot[a, 0, 1], rot[a, 0, 2]),
+        (rot[a, 1, 0], rot[a, 1, 1], rot[a, 1, 2]),
+        (rot[a, 2, 0], rot[a, 2, 1], rot[a, 2, 2]),
+    )
+    v = (pairs.vel[q, 0], pairs.vel[q, 1], pairs.vel[q, 2])
+    w = (pairs.omega[q, 0], pairs.omega[q, 1], pairs.omega[q, 2])
+    mu = pair_mu(bodies.block_mu[a], bodies.block_mu[b], law.mu_rule)
+    faces = (pairs.face_ptr[q], pairs.face_ptr[q + 1])
+    return a, b, faces, drift[a] + drift[b], rot_a, (v, w), (law.k_n, law.k_t, mu, law.beta)
+
+
+@njit(cache=True, inline="always")
+def _rotate(rot, r0):
+    """``R r0`` with ``R`` given by its rows (three 3-tuples)."""
+    return (
+        rot[0][0] * r0[0] + rot[0][1] * r0[1] + rot[0][2] * r0[2],
+        rot[1][0] * r0[0] + rot[1][1] * r0[1] + rot[1][2] * r0[2],
+        rot[2][0] * r0[0] + rot[2][1] * r0[1] + rot[2][2] * r0[2],
+    )
+
+
+@njit(cache=True, inline="always")
+def _node_force(depth, n, r, vw, shear, law_q, dt, area):
+    """Force [N] on a touching node's block and its new shear history [m] (:func:`traction_one`).
+
+    ``depth`` [m], normal ``n`` and ``shear`` [m] as :func:`traction_one`; ``r`` the node
+    relative to ``c_a`` [m]; ``vw = (v, w)`` the pair's relative velocity [m/s] and angular
+    velocity [rad/s]; ``law_q = (k_n, k_t, mu, beta)``; ``area`` the node's weighted area
+    [m^2]."""
+    v, w = vw
+    # relative velocity of a's material point against b's material point at x
+    v_rel = (
+        v[0] + w[1] * r[2] - w[2] * r[1],
+        v[1] + w[2] * r[0] - w[0] * r[2],
+        v[2] + w[0] * r[1] - w[1] * r[0],
+    )
+    t, shear = traction_one(depth, n, v_rel, shear, law_q, dt)
+    return (t[0] * area, t[1] * area, t[2] * area), shear
+
+
+@njit(cache=True, inline="always")
+def _add_wrench(s_f, s_m, r, f):
+    """``s_f + f`` and ``s_m + r x f`` (3-tuples)."""
+    return (s_f[0] + f[0], s_f[1] + f[1], s_f[2] + f[2]), (
+        s_m[0] + (r[1] * f[2] - r[2] * f[1]),
+        s_m[1] + (r[2] * f[0] - r[0] * f[2]),
+        s_m[2] + (r[0] * f[1] - r[1] * f[0]),
+    )
+
+
 @njit(cache=True)
-def _level_set_plane(r0x, r0y, r0z, q, b, to_b, shift, rot, shapes):
-    """Level-set value and world normal of neighbour ``b`` at a node of pair ``q``."""
+def _record(scratch, e, force, pos, a, r):
+    """Entry ``e``'s force on its node's block [N] and its point ``c_a + r`` [m] into
+    ``scratch.out_force`` and ``scratch.out_point``."""
+    scratch.out_force[e, 0], scratch.out_force[e, 1], scratch.out_force[e, 2] = force
+    scratch.out_point[e, 0] = pos[a, 0] + r[0]
+    scratch.out_point[e, 1] = pos[a, 1] + r[1]
+    scratch.out_point[e, 2] = pos[a, 2] + r[2]
+
+
+@njit(cache=True)
+def _level_set_plane(r0, q, b, to_b, shift, rot, shapes):
+    """Level-set value [m] and world normal (3-tuple) of neighbour ``b`` at a node ``r0`` of
+    pair ``q``."""
+    r0x, r0y, r0z = r0
     phi, g0, g1, g2 = level_set_sdf_one(
         to_b[q, 0, 0] * r0x + to_b[q, 0, 1] * r0y + to_b[q, 0, 2] * r0z + shift[q, 0],
         to_b[q, 1, 0] * r0x + to_b[q, 1, 1] * r0y + to_b[q, 1, 2] * r0z + shift[q, 1],
@@ -369,20 +396,33 @@ def _level_set_plane(r0x, r0y, r0z, q, b, to_b, shift, rot, shapes):
     n0 = rot[b, 0, 0] * g0 + rot[b, 0, 1] * g1 + rot[b, 0, 2] * g2
     n1 = rot[b, 1, 0] * g0 + rot[b, 1, 1] * g1 + rot[b, 1, 2] * g2
     n2 = rot[b, 2, 0] * g0 + rot[b, 2, 1] * g1 + rot[b, 2, 2] * g2
-    return phi, n0, n1, n2
+    return phi, (n0, n1, n2)
 
 
 @njit(cache=True)
-def _compatible_plane(r0x, r0y, r0z, m0, m1, m2, face_v, face_d, f_begin, f_end, compat_cos,
-                      margin):  # fmt: skip
-    """Plane distance, face row and skip bound of a node against the normal-compatible plane
-    (see :func:`contact_entries`); rows ``f_begin:f_end`` of the pair's faces, ``m`` the
-    node's face normal in its block's reference frame (the node ``r0`` there too)."""
+def _compatible_plane(r0, m, face_v, face_d, faces, law):
+    """Plane distance [m], face row and skip bound [m] of a node against the
+    normal-compatible plane.
+
+    Rows ``faces = (begin, end)`` of the pair's ``face_v`` (f, 3) and ``face_d`` (f,) [m];
+    ``r0`` the node and ``m`` its face normal, both in its block's reference frame. The node
+    takes its normal from the nearest plane among ``b``'s faces whose normal is within
+    ``acos(law.compat_cos)`` of ``-m``, and the penetration ``d_c`` below that plane less
+    ``max(0, delta)``, ``delta`` the distance outside ``b``'s other face planes (the nearest
+    one, negative inside): full depth up to ``b``'s edges, going continuously to zero over an
+    overhang equal to the depth. A node more than ``law.margin`` [m] below that plane (or with
+    no such face) cannot have come in through it within a list period: it takes the nearest
+    plane (a node on the side face of a block standing on a longer block is on that block's
+    top plane and far below its end face).
+    """
+    r0x, r0y, r0z = r0
+    m0, m1, m2 = m
+    compat_cos = law.compat_cos
     best_c = -math.inf
     best_o = -math.inf
     f_c = -1
-    f_o = f_begin
-    for g in range(f_begin, f_end):
+    f_o = faces[0]
+    for g in range(faces[0], faces[1]):
         dist = face_v[g, 0] * r0x + face_v[g, 1] * r0y + face_v[g, 2] * r0z - face_d[g]
         c = face_v[g, 0] * m0 + face_v[g, 1] * m1 + face_v[g, 2] * m2
         if c <= -compat_cos:
@@ -395,7 +435,7 @@ def _compatible_plane(r0x, r0y, r0z, m0, m1, m2, face_v, face_d, f_begin, f_end,
     # contact in either case needs best_c + max(best_o, 0) < 0, a 2-Lipschitz function of the
     # node's position: half of it bounds the motion to contact
     bound = 0.5 * (best_c + max(best_o, 0.0)) if f_c >= 0 else best_o
-    if best_c >= -margin:
+    if best_c >= -law.margin:
         return best_c + max(best_o, 0.0), f_c, bound
     if best_c > best_o:
         return best_c, f_c, bound
@@ -426,45 +466,57 @@ def pair_wrenches(pairs, sums, force, torque):
 
 
 @njit(cache=True)
-def _chunks(motion, bodies, shapes, scratch, pairs, m):
-    """Write the pairs' frames; the chunks of the ``m`` entries (count and size, a function of
-    ``m`` only, so that the serial and the parallel loops add in the same order and agree bit
+def _chunks(model, state, scratch, pairs):
+    """Write the pairs' frames; the chunks of the entries (count and size, a function of their
+    number only, so that the serial and the parallel loops add in the same order and agree bit
     for bit) and their zeroed sums (n_chunks, p, 6)."""
-    pair_frames(motion, scratch.rot, bodies, shapes, pairs)
+    contacts, motion = state
+    pair_frames(motion, scratch.rot, model[1], model[2], pairs)
+    m = contacts.node.size
     n_chunks = max(1, min(MAX_CHUNKS, (m + ENTRY_CHUNK - 1) // ENTRY_CHUNK))
     return n_chunks, (m + n_chunks - 1) // n_chunks, np.zeros((n_chunks, pairs.a.shape[0], 6))
 
 
 @njit(cache=True)
-def node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record):
+def node_contacts(model, state, dt, scratch, pairs, record):
     """Every entry, adding to ``scratch.force`` and ``scratch.torque`` (arguments as
     :func:`contact_entries`; ``scratch.rot`` holds the current rotations)."""
-    n_chunks, size, sums = _chunks(motion, bodies, shapes, scratch, pairs, contacts.node.size)
+    n_chunks, size, sums = _chunks(model, state, scratch, pairs)
     for c in range(n_chunks):
-        _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
-               sums)  # fmt: skip
-    _add_chunks(sums, pairs, scratch)
-
-
-@njit(cache=True, parallel=True)
-def node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs,
-                           record):  # fmt: skip
-    """:func:`node_contacts` with the chunks in a ``prange`` loop: each chunk sums into its own
-    buffer, and the buffers are added in chunk order (same result, bit for bit)."""
-    n_chunks, size, sums = _chunks(motion, bodies, shapes, scratch, pairs, contacts.node.size)
-    for c in prange(n_chunks):
-        _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
-               sums)  # fmt: skip
+        _chunk(c, size, model, state, dt, scratch, pairs, record, sums)
     _add_chunks(sums, pairs, scratch)
 
 
 @njit(cache=True)
-def _chunk(c, size, nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs, record,
-           sums):  # fmt: skip
+def node_contacts_parallel(model, state, dt, scratch, pairs, record):
+    """:func:`node_contacts` with the chunks in a ``prange`` loop (:func:`_parallel_chunks`):
+    each chunk sums into its own buffer, and the buffers are added in chunk order (same
+    result, bit for bit)."""
+    n_chunks, size, sums = _chunks(model, state, scratch, pairs)
+    nodes, bodies, shapes, law = model
+    contacts, motion = state
+    _parallel_chunks(nodes, bodies, shapes, law, contacts, motion, scratch, pairs, sums,
+                     (dt, record, size))  # fmt: skip
+    _add_chunks(sums, pairs, scratch)
+
+
+@njit(cache=True, parallel=True)
+def _parallel_chunks(nodes, bodies, shapes, law, contacts, motion, scratch, pairs, sums, step):
+    """Chunk ``c`` into ``sums[c]`` for every chunk, in a ``prange`` loop; ``step = (dt,
+    record, size)`` (see :func:`_chunk`). The state's groups come in one by one and the
+    tuples are built inside the loop: numba 0.68 rejects a tuple of them as an argument of
+    the loop's body, and can lose writes into arrays unpacked from a tuple before the loop."""
+    for c in prange(sums.shape[0]):
+        _chunk(c, step[2], (nodes, bodies, shapes, law), (contacts, motion), step[0], scratch,
+               pairs, step[1], sums)  # fmt: skip
+
+
+@njit(cache=True)
+def _chunk(c, size, model, state, dt, scratch, pairs, record, sums):
     """Entries of chunk ``c`` (of ``size`` entries) into ``sums[c]``."""
-    m = contacts.node.size
-    contact_entries(c * size, min(m, (c + 1) * size), nodes, contacts, motion, bodies, shapes,
-                    law, dt, scratch, pairs, record, sums[c])  # fmt: skip
+    m = state[0].node.size
+    contact_entries(c * size, min(m, (c + 1) * size), model, state, dt, scratch, pairs, record,
+                    sums[c])  # fmt: skip
 
 
 @njit(cache=True)

@@ -161,28 +161,21 @@ def advance_block_one(i, dt, alpha, local_damping, bodies, motion, scratch):
 
 
 @njit(cache=True)
-def run_steps(
-    n_steps, dt, t, alpha, local_damping, parallel, bodies, shapes, nodes, law, motion, contacts,
-    scratch, pairs, indenter, acc,
-):  # fmt: skip
+def run_steps(n_steps, t, settings, model, state, scratch, pairs, indenter, acc):
     """Run up to ``n_steps`` steps; stop early when the neighbour list must be rebuilt.
 
     Parameters
     ----------
     n_steps : int
-    dt : float
-        [s].
     t : float
         Time at the start [s].
-    alpha : float
-        Global damping rate [1/s].
-    local_damping : float
-        Local damping coefficient (see the module docstring).
-    parallel : bool
-        Evaluate contact entries with ``prange``.
-    bodies, shapes, nodes, law : Bodies, Shapes, Nodes, Law
+    settings : (float, float, float, bool)
+        ``(dt, alpha, local_damping, parallel)``: time step [s], global damping rate [1/s],
+        local damping coefficient (see the module docstring), and whether to evaluate the
+        contact entries with ``prange``.
+    model : (Nodes, Bodies, Shapes, Law)
         The model's constants (:mod:`dem.explicit.state`).
-    motion, contacts : Motion, Contacts
+    state : (Contacts, Motion)
         The state, advanced in place.
     scratch : Scratch
         Work arrays.
@@ -204,49 +197,69 @@ def run_steps(
     t : float
         Time at the end [s].
     """
-    centre = np.empty(3)
-    free_blocks = bodies.free_blocks
-    pos, quat, vel = motion.pos, motion.quat, motion.vel
+    dt, parallel = settings[0], settings[3]
+    bodies, law = model[1], model[3]
+    contacts, motion = state
     for step in range(n_steps):
-        quat_to_rot(quat, scratch.rot)
+        quat_to_rot(motion.quat, scratch.rot)
         scratch.force[:, :] = 0.0
         scratch.torque[:, :] = 0.0
         if parallel:
-            node_contacts_parallel(nodes, contacts, motion, bodies, shapes, law, dt, scratch,
-                                   pairs, False)  # fmt: skip
+            node_contacts_parallel(model, state, dt, scratch, pairs, False)
         else:
-            node_contacts(nodes, contacts, motion, bodies, shapes, law, dt, scratch, pairs,
-                          False)  # fmt: skip
+            node_contacts(model, state, dt, scratch, pairs, False)
         if indenter.active:
-            for k in range(3):
-                centre[k] = indenter.centre0[k] + indenter.velocity[k] * (t - indenter.t0)
-            p = sphere_contacts(indenter, motion, scratch.rot, centre, law.beta, scratch.force,
-                                scratch.torque)  # fmt: skip
-            acc[0] = p
-            acc[1] += -p * indenter.velocity[2] * dt
-            if p > acc[2]:
-                acc[2] = p
-        finite = True
-        for j in range(free_blocks.shape[0]):
-            i = free_blocks[j]
-            advance_block_one(i, dt, alpha, local_damping, bodies, motion, scratch)
-            for k in range(3):
-                if not (math.isfinite(pos[i, k]) and math.isfinite(vel[i, k])):
-                    finite = False
-            # bound on the motion of any point within the list's reach of the centroid
-            reach = bodies.radius[i] + 2.0 * law.margin
-            w = motion.omega[i]
-            scratch.drift[i] += dt * (
-                math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
-                + math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2) * reach
-            )
+            _indent(indenter, t, dt, law.beta, motion, scratch, acc)
+        finite = _advance_blocks(settings, bodies, law.margin, motion, scratch)
         t += dt
         if not finite:
             return step + 1, STATUS_NOT_FINITE, t
-        if needs_rebuild(pos, quat, contacts.pos_build, contacts.quat_build, bodies.radius,
-                         law.margin):  # fmt: skip
+        if needs_rebuild(motion.pos, motion.quat, contacts.pos_build, contacts.quat_build,
+                         bodies.radius, law.margin):  # fmt: skip
             return step + 1, STATUS_REBUILD, t
     return n_steps, STATUS_DONE, t
+
+
+@njit(cache=True)
+def _indent(indenter, t, dt, beta, motion, scratch, acc):
+    """The indenter's contact forces at time ``t`` [s] into ``scratch.force`` and
+    ``scratch.torque``; its load, work and largest load into ``acc`` (see :func:`run_steps`).
+    ``beta`` [s] is the normal dashpot."""
+    centre = np.empty(3)
+    for k in range(3):
+        centre[k] = indenter.centre0[k] + indenter.velocity[k] * (t - indenter.t0)
+    p = sphere_contacts(indenter, motion, scratch.rot, centre, beta, scratch.force,
+                        scratch.torque)  # fmt: skip
+    acc[0] = p
+    acc[1] += -p * indenter.velocity[2] * dt
+    if p > acc[2]:
+        acc[2] = p
+
+
+@njit(cache=True)
+def _advance_blocks(settings, bodies, margin, motion, scratch):
+    """Advance every free block by one step (:func:`advance_block_one`; ``settings`` as
+    :func:`run_steps`) and add to ``scratch.drift`` a bound on the motion of any point within
+    the list's reach (``margin`` [m]) of each block. Returns False if a position or velocity
+    is not finite."""
+    dt, alpha, local_damping = settings[0], settings[1], settings[2]
+    pos, vel, omega = motion.pos, motion.vel, motion.omega
+    free_blocks = bodies.free_blocks
+    finite = True
+    for j in range(free_blocks.shape[0]):
+        i = free_blocks[j]
+        advance_block_one(i, dt, alpha, local_damping, bodies, motion, scratch)
+        for k in range(3):
+            if not (math.isfinite(pos[i, k]) and math.isfinite(vel[i, k])):
+                finite = False
+        # bound on the motion of any point within the list's reach of the centroid
+        reach = bodies.radius[i] + 2.0 * margin
+        w = omega[i]
+        scratch.drift[i] += dt * (
+            math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+            + math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2) * reach
+        )
+    return finite
 
 
 @njit(cache=True)

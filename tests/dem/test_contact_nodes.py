@@ -117,23 +117,24 @@ def test_traction_law_stick_slip_closed_form():
     n = (0.0, 0.0, 1.0)
     # stick: sliding speed v for one step gives s = v dt
     v = 1e-2
-    t0, t1, t2, s0, s1, s2 = traction_one(d, *n, v, 0.0, 0.0, 0.0, 0.0, 0.0, k_n, k_t, mu, 0.0, dt)
-    np.testing.assert_allclose([t0, t1, t2], [-k_t * v * dt, 0.0, k_n * d])
+    law = (k_n, k_t, mu, 0.0)
+    t, _ = traction_one(d, n, (v, 0.0, 0.0), (0.0, 0.0, 0.0), law, dt)
+    np.testing.assert_allclose(t, [-k_t * v * dt, 0.0, k_n * d])
     # slip: a large step is capped at mu sigma, along the slip
     v = 10.0
-    t0, t1, t2, s0, *_ = traction_one(d, *n, v, 0.0, 0.0, 0.0, 0.0, 0.0, k_n, k_t, mu, 0.0, dt)
-    np.testing.assert_allclose([t0, t2], [-mu * k_n * d, k_n * d])
-    np.testing.assert_allclose(k_t * s0, mu * k_n * d)
+    t, s = traction_one(d, n, (v, 0.0, 0.0), (0.0, 0.0, 0.0), law, dt)
+    np.testing.assert_allclose([t[0], t[2]], [-mu * k_n * d, k_n * d])
+    np.testing.assert_allclose(k_t * s[0], mu * k_n * d)
     # history is rotated into a new tangent plane with its length kept
     s = np.array([1e-7, 0.0, 0.0])
     tilt = math.radians(10)
     n2 = (math.sin(tilt), 0.0, math.cos(tilt))
-    *_, r0, r1, r2 = traction_one(d, *n2, 0.0, 0.0, 0.0, *s, k_n, k_t, 10.0, 0.0, dt)
-    np.testing.assert_allclose(np.linalg.norm([r0, r1, r2]), 1e-7, rtol=1e-12)
-    np.testing.assert_allclose(np.dot([r0, r1, r2], n2), 0.0, atol=1e-20)
+    _, r = traction_one(d, n2, (0.0, 0.0, 0.0), tuple(s), (k_n, k_t, 10.0, 0.0), dt)
+    np.testing.assert_allclose(np.linalg.norm(r), 1e-7, rtol=1e-12)
+    np.testing.assert_allclose(np.dot(r, n2), 0.0, atol=1e-20)
     # separation-free rate damping never pulls: sigma clipped at 0
-    out = traction_one(d, *n, 0.0, 0.0, 1e3, 0.0, 0.0, 0.0, k_n, k_t, mu, 1e-6, dt)
-    assert out[2] == 0.0
+    t, _ = traction_one(d, n, (0.0, 0.0, 1e3), (0.0, 0.0, 0.0), (k_n, k_t, mu, 1e-6), dt)
+    assert t[2] == 0.0
 
 
 def test_carry_history_merge():

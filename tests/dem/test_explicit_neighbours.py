@@ -118,8 +118,8 @@ def test_entry_range_split_anywhere_counts_every_entry_once():
         sc.skip_gap.fill(0.0)  # evaluate every entry
         sums = np.zeros((len(ranges), len(pairs.a), 6))
         for j, (begin, end) in enumerate(ranges):
-            contact_entries(begin, end, model.surface, contacts, model.state.motion, model.bodies,
-                            model.shapes, model.law, 1e-6, sc, pairs, True, sums[j])  # fmt: skip
+            contact_entries(begin, end, model.constants, (contacts, model.state.motion), 1e-6,
+                            sc, pairs, True, sums[j])  # fmt: skip
         return contacts.shear, sc.out_force.copy(), sc.out_depth.copy(), sums.sum(axis=0)
 
     shear, force, depth, sums = evaluate([(0, m)])
