@@ -43,7 +43,8 @@ evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evalua
 Level sets are not a distance bound: no skipping there.
 
 The helpers of the entry loop take and return scalars and tuples of scalars, inlined
-(``inline="always"``); the plane choice and the writes into the entry arrays stay in
+(``inline="always"``; :func:`_run_frame`, once per run of entries, reads arrays); the plane
+choice and the writes into the entry arrays stay in
 :func:`contact_entries`: a helper taking the face arrays there, inlined or not, brought back
 numba's reference counting and made the loop two to three times slower (numba 0.68,
 ``benchmarks/bench_explicit.py``).
@@ -566,41 +567,46 @@ def sphere_contacts(indenter, motion, rot, centre, beta, force, torque):
         rx = rot[a, 0, 0] * r0x + rot[a, 0, 1] * r0y + rot[a, 0, 2] * r0z
         ry = rot[a, 1, 0] * r0x + rot[a, 1, 1] * r0y + rot[a, 1, 2] * r0z
         rz = rot[a, 2, 0] * r0x + rot[a, 2, 1] * r0y + rot[a, 2, 2] * r0z
-        x0 = pos[a, 0] + rx
-        x1 = pos[a, 1] + ry
-        x2 = pos[a, 2] + rz
-        d0 = x0 - centre[0]
-        d1 = x1 - centre[1]
-        d2 = x2 - centre[2]
-        dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-        depth = radius - dist
-        if depth <= 0.0 or dist == 0.0:
-            out_force[e, 0] = 0.0
-            out_force[e, 1] = 0.0
-            out_force[e, 2] = 0.0
-            continue
-        n0, n1, n2 = d0 / dist, d1 / dist, d2 / dist
-        va0 = vel[a, 0] + omega[a, 1] * rz - omega[a, 2] * ry - velocity[0]
-        va1 = vel[a, 1] + omega[a, 2] * rx - omega[a, 0] * rz - velocity[1]
-        va2 = vel[a, 2] + omega[a, 0] * ry - omega[a, 1] * rx - velocity[2]
-        vn = va0 * n0 + va1 * n1 + va2 * n2
+        # the node relative to the centre and its velocity relative to the sphere's
+        d = (pos[a, 0] + rx - centre[0], pos[a, 1] + ry - centre[1], pos[a, 2] + rz - centre[2])
+        va = (
+            vel[a, 0] + omega[a, 1] * rz - omega[a, 2] * ry - velocity[0],
+            vel[a, 1] + omega[a, 2] * rx - omega[a, 0] * rz - velocity[1],
+            vel[a, 2] + omega[a, 0] * ry - omega[a, 1] * rx - velocity[2],
+        )
+        touching, f = _sphere_force(d, va, radius, k_n, ind_area[e], beta)
+        out_force[e, 0], out_force[e, 1], out_force[e, 2] = f
+        if touching:
+            f0, f1, f2 = f
+            force[a, 0] += f0
+            force[a, 1] += f1
+            force[a, 2] += f2
+            torque[a, 0] += ry * f2 - rz * f1
+            torque[a, 1] += rz * f0 - rx * f2
+            torque[a, 2] += rx * f1 - ry * f0
+            p_total -= f2
+    return p_total
+
+
+@njit(cache=True, inline="always")
+def _sphere_force(d, va, radius, k_n, area, beta):
+    """Whether a node touches the sphere, and the sphere's force on it [N] (zero if not).
+
+    ``d`` (3-tuple) is the node relative to the sphere's centre [m], ``va`` its velocity
+    relative to the sphere [m/s], ``radius`` [m], ``k_n`` the penalty [Pa/m], ``area`` the
+    node's area [m^2], ``beta`` the normal dashpot [s]."""
+    dist = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    depth = radius - dist
+    touching = not (depth <= 0.0 or dist == 0.0)
+    f = (0.0, 0.0, 0.0)
+    if touching:
+        n0, n1, n2 = d[0] / dist, d[1] / dist, d[2] / dist
+        vn = va[0] * n0 + va[1] * n1 + va[2] * n2
         sigma = k_n * (depth - beta * vn)
         if sigma < 0.0:
             sigma = 0.0
-        f0 = sigma * ind_area[e] * n0
-        f1 = sigma * ind_area[e] * n1
-        f2 = sigma * ind_area[e] * n2
-        out_force[e, 0] = f0
-        out_force[e, 1] = f1
-        out_force[e, 2] = f2
-        force[a, 0] += f0
-        force[a, 1] += f1
-        force[a, 2] += f2
-        torque[a, 0] += ry * f2 - rz * f1
-        torque[a, 1] += rz * f0 - rx * f2
-        torque[a, 2] += rx * f1 - ry * f0
-        p_total -= f2
-    return p_total
+        f = (sigma * area * n0, sigma * area * n1, sigma * area * n2)
+    return touching, f
 
 
 @njit(cache=True)

@@ -200,6 +200,7 @@ def run_steps(n_steps, t, settings, model, state, scratch, pairs, indenter, acc)
     dt, parallel = settings[0], settings[3]
     bodies, law = model[1], model[3]
     contacts, motion = state
+    centre = np.empty(3)
     for step in range(n_steps):
         quat_to_rot(motion.quat, scratch.rot)
         scratch.force[:, :] = 0.0
@@ -209,7 +210,7 @@ def run_steps(n_steps, t, settings, model, state, scratch, pairs, indenter, acc)
         else:
             node_contacts(model, state, dt, scratch, pairs, False)
         if indenter.active:
-            _indent(indenter, t, dt, law.beta, motion, scratch, acc)
+            _indent(indenter, t, dt, law.beta, motion, scratch, centre, acc)
         finite = _advance_blocks(settings, bodies, law.margin, motion, scratch)
         t += dt
         if not finite:
@@ -221,11 +222,11 @@ def run_steps(n_steps, t, settings, model, state, scratch, pairs, indenter, acc)
 
 
 @njit(cache=True)
-def _indent(indenter, t, dt, beta, motion, scratch, acc):
+def _indent(indenter, t, dt, beta, motion, scratch, centre, acc):
     """The indenter's contact forces at time ``t`` [s] into ``scratch.force`` and
     ``scratch.torque``; its load, work and largest load into ``acc`` (see :func:`run_steps`).
-    ``beta`` [s] is the normal dashpot."""
-    centre = np.empty(3)
+    ``beta`` [s] is the normal dashpot, ``centre`` (3,) a work array (the sphere's centre
+    [m])."""
     for k in range(3):
         centre[k] = indenter.centre0[k] + indenter.velocity[k] * (t - indenter.t0)
     p = sphere_contacts(indenter, motion, scratch.rot, centre, beta, scratch.force,
