@@ -43,6 +43,17 @@ def factor(A: sp.csc_matrix):
         return exc
 
 
+def _non_finite(what: str, lam: float, interfaces: np.ndarray, blocks: list) -> StaticSolverError:
+    """The error of a NaN or inf ``what`` at ``lam``, naming (up to 10) interfaces and blocks."""
+    return StaticSolverError(
+        f"NaN or inf{what} at lambda = {lam:.6g}: interfaces {interfaces[:10].tolist()}, "
+        f"blocks {blocks[:10]}",
+        blocks=blocks,
+        interfaces=interfaces[:10],
+        lam=lam,
+    )
+
+
 class LinearSolver:
     """Solves with the current tangent, reusing an older LU as a GMRES preconditioner.
 
@@ -161,29 +172,18 @@ class Corrector:
             bad_itf = np.flatnonzero(~np.isfinite(ev.law.f).all(axis=1))
             bad_dof = np.flatnonzero(~np.isfinite(R))[:20]
             blocks = sorted({model.block_of_dof(int(i))[0] for i in bad_dof})
-            raise StaticSolverError(
-                f"NaN or inf at lambda = {lam:.6g}: interfaces {bad_itf[:10].tolist()}, "
-                f"blocks {blocks[:10]}",
-                blocks=blocks,
-                interfaces=bad_itf[:10],
-                lam=lam,
-            )
+            raise _non_finite("", lam, bad_itf, blocks)
         return Iterate(u, lam, ev, R)
 
     def check_tangent(self, it: Iterate) -> None:
         """Raise, naming the interfaces, if the law's tangent at ``it`` is not finite (a
         singular or NaN solve must not be taken for a mechanism)."""
-        D = it.ev.law.D
-        bad = np.flatnonzero(~np.isfinite(D).all(axis=(1, 2)))
+        bad = np.flatnonzero(~np.isfinite(it.ev.law.D).all(axis=(1, 2)))
         if bad.size:
             model = self.model
-            raise StaticSolverError(
-                f"NaN or inf in the tangent of the {model.law.settings.name} law at lambda = "
-                f"{it.lam:.6g}: interfaces {bad[:10].tolist()} (blocks "
-                f"{sorted({int(x) for k in bad[:10] for x in (model.a[k], model.b[k])})})",
-                interfaces=bad[:10],
-                lam=it.lam,
-            )
+            blocks = sorted({int(x) for k in bad[:10] for x in (model.a[k], model.b[k])})
+            what = f" in the tangent of the {model.law.settings.name} law"
+            raise _non_finite(what, it.lam, bad, blocks)
 
     def tolerance(self, lam: float, loose: bool = False) -> float:
         """Residual norm of convergence at ``lam`` [N]."""

@@ -49,4 +49,4 @@ def test_a_nan_tangent_is_an_error_naming_the_interface(monkeypatch, when):
     monkeypatch.setattr(ResultantLaw, "evaluate", nan_tangent)
     with pytest.raises(StaticSolverError, match="NaN or inf in the tangent") as err:
         solve_collapse(scene, StaticSettings(mu=0.7))
-    assert err.value.interfaces == [4]
+    assert err.value.interfaces == [4] and 1 <= len(err.value.blocks) <= 2
