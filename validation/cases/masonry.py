@@ -27,6 +27,7 @@ import os
 import subprocess
 import sys
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -182,6 +183,48 @@ def _no_collapse_list(rows: list[Row]) -> str:
         for r in missed
     ]
     return "Runs without a collapse (no lambda reported):\n\n" + "\n".join(lines) + "\n\n"
+
+
+FIBRE_CHECK_POINTS = 7
+"""Lobatto points per side of the fibre law's grid check (the default grid has 5)."""
+
+
+def _fibre_grid_check(row: Row, result: StaticResult | None, scene, settings) -> None:
+    """Rerun a fibre-law row (``result`` of ``scene`` under ``settings``) on a finer grid
+    (``FIBRE_CHECK_POINTS`` per side) and record that lambda [-] and its relative change in
+    ``row.extra``: the discretisation error of the grid the row used (no change where either
+    run does not collapse)."""
+    check = replace(settings, fibre_points=FIBRE_CHECK_POINTS)
+    try:
+        result = solve_collapse(scene, check)
+        lam = result.lambda_max if result.collapsed else None
+    except StaticSolverError as exc:
+        logger.warning("fibre grid check %s: %s", row.quantity, exc)
+        lam = None
+    row.extra["fibre_check_points"] = FIBRE_CHECK_POINTS
+    row.extra["lambda_fibre_check"] = lam
+    base = result.lambda_max if result is not None and result.collapsed else None
+    row.extra["fibre_grid_change"] = None if base is None or lam is None else lam / base - 1.0
+
+
+def _grid_note(rows: list[Row]) -> str:
+    """How much the fibre-law rows move on the finer grid."""
+    checked = [r for r in rows if r.extra.get("fibre_grid_change") is not None]
+    if not checked:
+        return ""
+    worst = sorted(checked, key=lambda r: -abs(r.extra["fibre_grid_change"]))
+    large = [r for r in worst if abs(r.extra["fibre_grid_change"]) > 0.02]
+    text = (
+        f"Fibre grid check (`lambda_fibre_check`: {FIBRE_CHECK_POINTS} instead of "
+        f"{worst[0].settings['static']['law']['points']} Lobatto points per side): "
+        f"{len(checked) - len(large)} of {len(checked)} collapsed fibre-law runs move by "
+        "2 % or less"
+    )
+    if large:
+        text += "; more: " + ", ".join(
+            f"{r.quantity} {100 * r.extra['fibre_grid_change']:+.1f} %" for r in large
+        )
+    return text + ". A run that moves more depends on the grid by that much.\n\n"
 
 
 KERNELS = ("Haswell", "SkylakeX", "Sandybridge")
@@ -393,7 +436,9 @@ def run_restrepo(quick: bool = True):
         else:
             variants = VARIANTS + ((("fibre", "blocks_6"),) if not quick else ())
         for model, variant in variants:
-            row, _, _ = _row(spec, model, variant, quick)
+            row, result, scene = _row(spec, model, variant, quick)
+            if model == "fibre":
+                _fibre_grid_check(row, result, scene, _settings(spec, model, quick))
             rows.append(row)
     seed_errors = [
         abs(SPECIMENS[f"restrepo-{n}"].seed_dem / SPECIMENS[f"restrepo-{n}"].reference - 1)
@@ -428,6 +473,7 @@ def run_restrepo(quick: bool = True):
         "step, against the recent path (dem.collapse_criteria); a run that did not collapse "
         "is listed below and has no value in `ours`.\n\n"
         + _no_collapse_list(rows)
+        + _grid_note(rows)
         + "Round-off: "
         + _kernel_note()
         + "\n\nMean relative error per variant over the specimens run "
