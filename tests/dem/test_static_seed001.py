@@ -100,18 +100,38 @@ def test_quick_validation_case_runs(case):
     assert any(r.ours is not None for r in rows)
 
 
-def test_fibre_grid_check_of_a_rocking_wall_is_grid_free():
+@pytest.mark.parametrize(
+    ("build", "grid_free"),
+    [
+        (lambda: running_bond_wall(3, 5, 100, 200, 100, 18, 0.5, live="weight"), True),
+        (lambda: running_bond_wall(4, 6, 81, 210, 70, 20, 0.6, fixed_columns=("left",)), False),
+    ],
+)
+def test_fibre_grid_check_records_the_finer_grid(build, grid_free):
     # a free-standing wall overturns about the edge of its base joint, where the Lobatto
-    # grid has its outer springs on any grid: the check on 7 points finds the 5-point lambda
-    # (b / h = 0.2 for this wall, less the elastic crushing of the edge)
+    # grid has its outer springs on any grid: lambda = b / h = 0.2 on both grids. A wall
+    # held by a column twists its joints, and the finer grid moves it: the check must record
+    # that lambda and its change against the row's own run
     from validation.cases.masonry import FIBRE_CHECK_POINTS, _fibre_grid_check
     from validation.report import Row
 
-    scene = running_bond_wall(3, 5, 100, 200, 100, 18, 0.5, live="weight")
-    settings = StaticSettings(interface_model="fibre", mu=0.5, on_failure="return")
+    scene = build()
+    settings = StaticSettings(interface_model="fibre", mu=0.6, on_failure="return")
     result = solve_collapse(scene, settings)
     row = Row("wall", result.lambda_max)
     _fibre_grid_check(row, result, scene, settings)
+    finer = solve_collapse(
+        scene,
+        StaticSettings(
+            interface_model="fibre", mu=0.6, on_failure="return", fibre_points=FIBRE_CHECK_POINTS
+        ),
+    )
     assert row.extra["fibre_check_points"] == FIBRE_CHECK_POINTS == 7
-    np.testing.assert_allclose(row.extra["lambda_fibre_check"], 0.2, rtol=1e-3)
-    assert abs(row.extra["fibre_grid_change"]) < 1e-3
+    assert row.extra["lambda_fibre_check"] == finer.lambda_max
+    change = finer.lambda_max / result.lambda_max - 1.0
+    assert row.extra["fibre_grid_change"] == pytest.approx(change, rel=1e-12)
+    if grid_free:
+        np.testing.assert_allclose(finer.lambda_max, 0.2, rtol=1e-3)
+        assert abs(change) < 1e-3
+    else:
+        assert abs(change) > 2e-3

@@ -196,8 +196,8 @@ def _fibre_grid_check(row: Row, result: StaticResult | None, scene, settings) ->
     run does not collapse)."""
     check = replace(settings, fibre_points=FIBRE_CHECK_POINTS)
     try:
-        result = solve_collapse(scene, check)
-        lam = result.lambda_max if result.collapsed else None
+        finer = solve_collapse(scene, check)
+        lam = finer.lambda_max if finer.collapsed else None
     except StaticSolverError as exc:
         logger.warning("fibre grid check %s: %s", row.quantity, exc)
         lam = None
