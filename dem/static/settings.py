@@ -93,7 +93,9 @@ class FibreLawSettings:
     ----------
     points : int
         Gauss-Lobatto points per side of a rectangular interface: the outer springs lie on
-        the edges, so rocking about an edge is exact.
+        the edges, so rocking about an edge is exact. Twisting and partly open joints are
+        only as exact as the grid: rerun a result with more points to see how far it moves
+        (``masonry-restrepo`` records that check for every fibre-law row).
     tangent_floor : float
         As for the resultant law. The fibre law, whose yielded springs are only a part of each
         joint, converges best near the consistent tangent (1e-9).
