@@ -123,10 +123,11 @@ class Model:
     F_dead, F_live : (n_free,) float
         Dead load and live pattern on the unknowns [N, N m].
     w : (n_free,) float
-        Control weights ``F_L / |F_L|_1`` (forces only): ``c = w . u`` is the
-        live-load-weighted mean displacement [m].
+        Control weights ``F_L / S`` with ``S`` the sum of the live forces' magnitudes [N]
+        (of the live moments over the model's extent for a live load of moments only):
+        ``c = w . u`` is the live load's work per unit ``S``, a mean displacement [m].
     lambda_scale : float
-        Total dead over total live force (1 without dead load).
+        Total dead force over ``S`` (1 without dead load).
     """
 
     def __init__(self, scene: Scene, settings: StaticSettings):
@@ -162,12 +163,17 @@ class Model:
         self.F_dead = scene.dead_wrench[free]
         self.F_live = scene.loads.live_wrench[free]
         is_force = np.broadcast_to(np.arange(6) < 3, (self.n_blocks, 6))[free]
-        live_force = np.abs(self.F_live[is_force]).sum()
-        if live_force == 0:
+        live_size = np.abs(self.F_live[is_force]).sum()
+        if live_size == 0:
+            # a live load of moments only (torques): each moment counts as a force at the
+            # model's extent, so that c = w . u is still a length
+            extent = float(np.ptp(scene.assembly.arrays.vertices, axis=0).max())
+            live_size = np.abs(self.F_live[~is_force]).sum() / extent
+        if live_size == 0:
             raise ValueError("the live load is zero on every free dof: nothing to scale")
         dead_force = np.abs(self.F_dead[is_force]).sum()
-        self.lambda_scale = dead_force / live_force if dead_force > 0 else 1.0
-        self.w = self.F_live / live_force
+        self.lambda_scale = dead_force / live_size if dead_force > 0 else 1.0
+        self.w = self.F_live / live_size
         self.dead_norm = float(np.linalg.norm(self.F_dead))
         self.live_norm = float(np.linalg.norm(self.F_live))
 
