@@ -112,6 +112,7 @@ def simulate_indentation(
     if st is None:
         st = _RunState(key=key, relax=model.relax(relaxation), t0=model.t)
         st.centre0 = _sphere_start(model, block, indentation)
+        model.check_indenter(st.centre0, indentation.tip_radius, start=True)
         if ckpt is not None:
             st.save(ckpt, model)
     else:
@@ -128,8 +129,12 @@ def simulate_indentation(
         n = min(steps_per_record, n_steps_total - st.steps)
         try:
             acc = model.advance(n, indenter=ind)
+            centre = st.centre0 + ind["velocity"] * (model.t - st.t0)
+            overlap = model.check_indenter(centre, indentation.tip_radius)
+            st.indenter_overlap_max = max(st.indenter_overlap_max, overlap)
         except UnmodelledContactError as exc:
-            # the curve up to the last record holds; past it the blocks pass through each other
+            # the curve up to the last record holds; past it the blocks (or the indenter and a
+            # block) pass through each other
             logger.warning("indent %s stopped: %s", scene.name, exc)
             st.stopped_by = str(exc)
             break
@@ -177,7 +182,9 @@ def _sphere_start(model: ExplicitModel, block: int, indentation: IndentationSett
 
 _RECORDS = ("delta", "load", "time", "kinetic", "elastic", "work_hist", "entries")
 _SCALARS = ("steps", "work", "delta_now", "best_load", "finished", "t0", "relax",
-            "next_snapshot", "below_from", "stopped_by")  # fmt: skip
+            "next_snapshot", "below_from", "stopped_by", "indenter_overlap_max")  # fmt: skip
+_SCALARS_ADDED = {"stopped_by": "", "indenter_overlap_max": float("nan")}
+"""Scalars that older checkpoints lack, with the value a resumed run takes (nan: unknown)."""
 
 
 @dataclass
@@ -191,6 +198,7 @@ class _RunState:
     best_load: float = -math.inf
     finished: bool = False
     stopped_by: str = ""
+    indenter_overlap_max: float = 0.0
     centre0: np.ndarray = field(default_factory=lambda: np.zeros(3))
     t0: float = 0.0
     relax: dict = field(default_factory=dict)
@@ -298,8 +306,10 @@ class _RunState:
             return None
         try:
             model.restore(ExplicitState.from_arrays(arrays, "state."))
-            st = cls(key=key, **{name: meta[name] for name in _SCALARS if name != "stopped_by"})
-            st.stopped_by = meta.get("stopped_by", "")  # older checkpoints: none
+            kept = [name for name in _SCALARS if name not in _SCALARS_ADDED]
+            st = cls(key=key, **{name: meta[name] for name in kept})
+            for name, value in _SCALARS_ADDED.items():
+                setattr(st, name, meta.get(name, value))
             st.steps = int(st.steps)
             if "peak.t" in arrays:
                 st.peak = ExplicitState.from_arrays(arrays, "peak.")
@@ -375,6 +385,7 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         "relaxation": asdict(relaxation),
         "loaded_block": int(model.indenter_block),
         "stopped_by": st.stopped_by,
+        "indenter_overlap_max": st.indenter_overlap_max,
     }
     return IndentationResult(
         delta=delta, load=load, time=np.asarray(st.time), kinetic=np.asarray(st.kinetic),

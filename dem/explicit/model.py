@@ -41,7 +41,13 @@ from dem.explicit.state import (
     Shapes,
 )
 from dem.explicit.timestep import choose_time_step, highest_frequency
-from dem.explicit.unmodelled import UnmodelledContactError, block_hulls, worst_overlap
+from dem.explicit.unmodelled import (
+    INDENTER_DEPTH_LIMIT,
+    UnmodelledContactError,
+    block_hulls,
+    sphere_overlap,
+    worst_overlap,
+)
 from dem.kernels.broadphase import build_pairs, carry_history, near_faces
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
@@ -421,6 +427,62 @@ class ExplicitModel:
             sphere_contacts(indenter, self.state.motion, sc.rot, np.asarray(centre, float),
                             self.beta, sc.force, sc.torque)  # fmt: skip
         return sc.force, sc.torque, sc.out_force, sc.out_point, ind
+
+    def check_indenter(self, centre: np.ndarray, radius: float, start: bool = False) -> float:
+        """Refuse an indenter that overlaps a block more than the model represents.
+
+        The sphere may sink up to ``INDENTER_DEPTH_LIMIT * radius`` into a block that has
+        indenter nodes, and at most ``margin`` into any other block (no node: the contact would
+        be skipped) or, with ``start``, into any block at all (the tip must start clear of
+        everything). See :mod:`dem.explicit.unmodelled`.
+
+        Parameters
+        ----------
+        centre : (3,) float
+            Sphere centre [m].
+        radius : float
+            [m].
+        start : bool
+            The start of indentation.
+
+        Returns
+        -------
+        float
+            The largest overlap of the sphere with a block [m] (0 if none).
+
+        Raises
+        ------
+        UnmodelledContactError
+            Naming the block, the overlap and what is allowed.
+        """
+        blocks, depths = sphere_overlap(np.asarray(centre, dtype=float), radius, self.bodies,
+                                        self.shapes, self.pos, self.rotations())  # fmt: skip
+        if len(blocks) == 0:
+            return 0.0
+        nodes = np.isin(blocks, self.indenter.block) & (not start)
+        allowed = np.where(nodes, INDENTER_DEPTH_LIMIT * radius, self.settings.margin)
+        k = int(np.argmax(depths / allowed))
+        block, depth, allowed, with_nodes = blocks[k], depths[k], allowed[k], nodes[k]
+        if depth <= allowed:
+            return float(depths.max())
+        if start:
+            why = "at the start of indentation: the tip must start clear of every block"
+        elif with_nodes:
+            why = (
+                f"more than {INDENTER_DEPTH_LIMIT:g} of its radius: k_n is far too low for "
+                "the load, and from here the load measures the sphere's penalty, not the "
+                "blocks (raise k_n or the tip radius)"
+            )
+        else:
+            why = (
+                "where the block has no indenter nodes (nodes are seeded on the free blocks' "
+                "upward faces under the tip's path only), so the contact would be skipped"
+            )
+        raise UnmodelledContactError(
+            f"the indenter (radius {radius:.3e} m, centre {np.round(centre, 9).tolist()} m) "
+            f"overlaps block {block} by {depth:.3e} m at t = {self.t:.6e} s (at most "
+            f"{allowed:.3e} m is a contact the model represents) {why}"
+        )
 
     def kinetic_energy(self) -> float:
         """Kinetic energy of the free blocks with the inertial masses [J]."""

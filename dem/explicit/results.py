@@ -36,7 +36,10 @@ class IndentationResult:
     peak_state : dict
         Nodal forces at the peak record (see :func:`export_peak_state`).
     info : dict
-        dt, omega_max, nodes, entries, steps, wall times, cost per node per step, settings.
+        dt, omega_max, nodes, entries, steps, wall times, cost per node per step, settings;
+        ``stopped_by``: why the run stopped before its end (empty if it did not);
+        ``indenter_overlap_max`` [m]: the deepest overlap of the tip with a block at the
+        records (see :meth:`dem.explicit.ExplicitModel.check_indenter`).
     """
 
     delta: np.ndarray

@@ -1,0 +1,92 @@
+"""Scenes and inputs of a new user against closed forms and clear errors (explicit DEM).
+
+The indenter, a rigid sphere of radius ``R`` and centre ``c``, pushes each node ``x`` it covers
+with the traction ``k_n (R - |x - c|)`` along ``x - c``. Pressed ``d`` into a flat face (centre
+``h = R - d`` above it), the vertical load is
+``P = 2 pi k_n int_0^a (R - s) (h / s) rho d rho`` with ``s = sqrt(rho^2 + h^2)``, ``a^2 = R^2 -
+h^2``; with ``s d s = rho d rho`` it is ``pi k_n h (R - h)^2 = k_n pi d^2 (R - d)``, largest at
+``d = 2 R / 3``. On a block held by a wide, much stiffer support the block barely moves, so
+``d`` is the indenter's travel.
+"""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from dem.explicit import (
+    ExplicitSettings,
+    IndentationSettings,
+    UnmodelledContactError,
+    simulate_indentation,
+)
+from dem.explicit.unmodelled import INDENTER_DEPTH_LIMIT
+from dem.scene import Scene
+
+SIDE = 0.01  # [m]
+TIP = 1e-3  # [m]
+K_N = 1e11  # [Pa/m]
+
+
+def box(lo, hi):
+    return np.array(list(itertools.product(*zip(lo, hi, strict=True))), dtype=float)
+
+
+def ground():
+    return box((-0.02, -0.02, -0.01), (0.03, 0.03, 0.0))
+
+
+def sphere_load(depth, radius=TIP, k_n=K_N):
+    """Load of a sphere pressed ``depth`` into a flat face [N]."""
+    return k_n * math.pi * depth**2 * (radius - depth)
+
+
+def indent(scene, block=0, axis_xy=None, max_deflection=1.5 * TIP):
+    settings = ExplicitSettings(k_n=K_N, node_spacing=SIDE / 4)
+    indentation = IndentationSettings(
+        block=block, axis_xy=axis_xy, tip_radius=TIP, speed=0.05,
+        max_deflection=max_deflection, record_interval=1e-5,
+    )  # fmt: skip
+    return simulate_indentation(scene, settings, indentation)
+
+
+def test_sphere_on_a_held_block_follows_its_law_and_stops_before_sinking_through():
+    """A cube on the ground under a sphere driven 1.5 R down: the load follows the sphere's
+    law; the run stops once the tip is half its radius deep (it used to go on: the load peaked
+    at 2 R / 3, the law's maximum, and turned negative, a frictionless sphere pulling the block
+    up, and that peak was reported as the block's)."""
+    scene = Scene.from_convex_blocks([box((0, 0, 0), (SIDE,) * 3), ground()], 2500.0,
+                                     fixed=[1], mu=0.5)  # fmt: skip
+    res = indent(scene)
+    assert "indenter" in res.info["stopped_by"]
+    assert np.all(res.load >= 0.0)
+    # each recorded load is the mean over its interval: the law at the interval's middle
+    middle = res.delta - 0.5 * 1e-5
+    shallow = (res.delta > 0.1 * TIP) & (res.delta < 0.45 * TIP)
+    np.testing.assert_allclose(res.load[shallow], sphere_load(middle[shallow]), rtol=0.03)
+    limit = INDENTER_DEPTH_LIMIT * TIP
+    assert res.info["indenter_overlap_max"] <= limit
+    assert res.delta[-1] <= limit + 2e-5
+    assert res.peak_load <= 1.05 * sphere_load(limit)
+
+
+def test_tip_starting_inside_another_block_is_refused():
+    """Indenting the lower of two stacked cubes puts the tip inside the upper one (it used to
+    push the lower cube through the upper one, with a load of 900 N)."""
+    blocks = [box((0, 0, 0), (SIDE,) * 3), box((0, 0, SIDE), (SIDE, SIDE, 2 * SIDE)), ground()]
+    scene = Scene.from_convex_blocks(blocks, 2500.0, fixed=[2], mu=0.5)
+    with pytest.raises(UnmodelledContactError, match=r"overlaps block 1 .*start"):
+        indent(scene, block=0)
+
+
+def test_tip_sinking_into_a_block_without_indenter_nodes_stops_the_run():
+    """The tip straddles a free cube and a fixed block of the same height: fixed blocks carry
+    no indenter nodes, so the tip's contact with it used to be skipped. The run stops naming
+    the fixed block."""
+    blocks = [box((0, 0, 0), (SIDE,) * 3), box((SIDE, 0, 0), (2 * SIDE, SIDE, SIDE)), ground()]
+    scene = Scene.from_convex_blocks(blocks, 2500.0, fixed=[1, 2], mu=0.5)
+    res = indent(scene, axis_xy=(SIDE - 0.2 * TIP, 0.5 * SIDE))
+    assert "overlaps block 1" in res.info["stopped_by"]
+    assert "no indenter nodes" in res.info["stopped_by"]
+    assert res.delta[-1] < 0.2 * TIP
