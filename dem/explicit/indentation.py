@@ -14,7 +14,10 @@ Definitions of the results (:class:`IndentationResult`):
 - ``load`` ``P`` [N]: mean indenter force over each recording interval, ``Delta W / Delta
   delta`` with ``W`` the work done by the indenter (so the area under the curve is ``W``).
 - peak load ``P_max`` [N] and deflection at peak ``delta_peak`` [m]: the largest recorded ``P``
-  and its ``delta``.
+  and its ``delta``. ``peak_reached``: ``P`` fell after it to ``stop_below_peak_fraction``
+  of it, or to :data:`~dem.explicit.results.PEAK_DROP_FRACTION` of it if that is None; when
+  False (the run ended, or was stopped, with the load still rising or level) ``P_max`` is only
+  the largest load so far, a lower bound, and a warning says so.
 - ultimate deflection ``delta_u`` [m]: the first ``delta`` after the peak at which ``P`` falls
   to ``ultimate_fraction * P_max`` and stays there for ``out_confirm`` of further travel (the
   loaded block has slipped out); NaN if the run ended before.
@@ -37,6 +40,7 @@ import numpy as np
 from dem.explicit.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
 from dem.explicit.model import ExplicitModel
 from dem.explicit.results import (
+    PEAK_DROP_FRACTION,
     IndentationResult,
     curve_summary,
     export_peak_state,
@@ -344,7 +348,17 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
     loop_s, loop_cpu_s = loop
     delta = np.asarray(st.delta)
     load = np.asarray(st.load)
-    summary = curve_summary(delta, load, indentation.ultimate_fraction, indentation.out_confirm)
+    summary = curve_summary(delta, load, indentation.ultimate_fraction, indentation.out_confirm,
+                            indentation.stop_below_peak_fraction or PEAK_DROP_FRACTION)  # fmt: skip
+    if not summary["peak_reached"]:
+        logger.warning(
+            "indent %s: the peak was not reached (the load never fell below %.2g of its largest "
+            "value %.4g N, at %.4g mm of %.4g mm; %s): peak_load is the largest load so far, "
+            "a lower bound", model.scene.name,
+            indentation.stop_below_peak_fraction or PEAK_DROP_FRACTION,
+            summary["peak_load"], summary["deflection_at_peak"] / MM,
+            delta[-1] / MM if len(delta) else 0.0, st.stopped_by or "the run reached its end",
+        )  # fmt: skip
     pos = np.asarray(st.poses_pos).reshape(-1, model.n_blocks, 3)
     quat = np.asarray(st.poses_quat).reshape(-1, model.n_blocks, 4)
     snapshots = list(st.snapshots)

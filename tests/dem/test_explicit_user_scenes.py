@@ -19,6 +19,7 @@ from dem.explicit import (
     ExplicitSettings,
     IndentationSettings,
     UnmodelledContactError,
+    curve_summary,
     simulate_indentation,
 )
 from dem.explicit.unmodelled import INDENTER_DEPTH_LIMIT
@@ -56,10 +57,9 @@ def test_sphere_on_a_held_block_follows_its_law_and_stops_before_sinking_through
     law; the run stops once the tip is half its radius deep (it used to go on: the load peaked
     at 2 R / 3, the law's maximum, and turned negative, a frictionless sphere pulling the block
     up, and that peak was reported as the block's)."""
-    scene = Scene.from_convex_blocks([box((0, 0, 0), (SIDE,) * 3), ground()], 2500.0,
-                                     fixed=[1], mu=0.5)  # fmt: skip
-    res = indent(scene)
+    res = indent(held_cube())
     assert "indenter" in res.info["stopped_by"]
+    assert not res.peak_reached  # stopped on the rising branch of the law
     assert np.all(res.load >= 0.0)
     # each recorded load is the mean over its interval: the law at the interval's middle
     middle = res.delta - 0.5 * 1e-5
@@ -90,3 +90,32 @@ def test_tip_sinking_into_a_block_without_indenter_nodes_stops_the_run():
     assert "overlaps block 1" in res.info["stopped_by"]
     assert "no indenter nodes" in res.info["stopped_by"]
     assert res.delta[-1] < 0.2 * TIP
+
+
+def held_cube():
+    return Scene.from_convex_blocks([box((0, 0, 0), (SIDE,) * 3), ground()], 2500.0,
+                                    fixed=[1], mu=0.5)  # fmt: skip
+
+
+def test_run_ending_while_the_load_rises_says_the_peak_was_not_reached(caplog):
+    """Driven 0.2 R into a held cube, the tip is on the rising branch of its law (up to
+    2 R / 3): the largest load is the last one, a lower bound, and the result says so (it used
+    to report it as the peak load, with nothing to tell it from a real peak)."""
+    res = indent(held_cube(), max_deflection=0.2 * TIP)
+    assert res.info["stopped_by"] == ""
+    assert not res.peak_reached
+    assert res.deflection_at_peak == res.delta[-1]
+    assert "peak was not reached" in caplog.text
+
+
+@pytest.mark.parametrize(
+    ("after_peak", "reached"),
+    [([], False), ([0.95, 0.9], False), ([0.95, 0.8, 0.9], True), ([0.5], True)],
+)
+def test_peak_reached_once_the_load_fell_below_the_drop_fraction(after_peak, reached):
+    """A load rising to 1 N, then the given loads: the peak is reached once a later load is
+    at most 0.85 of it (the default drop fraction); a curve with no positive load has none."""
+    load = np.concatenate([np.linspace(0.1, 1.0, 10), after_peak])
+    delta = np.arange(1, len(load) + 1) * 1e-5
+    assert curve_summary(delta, load, 0.1, 3e-5)["peak_reached"] is reached
+    assert curve_summary(delta, -load, 0.1, 3e-5)["peak_reached"] is False
