@@ -19,8 +19,10 @@ upward faces under its path) with the traction ``k_n (R - |x - c|)`` along ``x -
 ``d`` into a flat face it carries ``P = k_n pi d^2 (R - d)``, which peaks at ``d = 2 R / 3``
 and falls beyond: a tip that deep measures its own penalty, not the blocks, and goes on through
 the block (the load turns negative once its centre passes the nodes). The run stops once the
-sphere overlaps a block with indenter nodes by more than ``INDENTER_DEPTH_LIMIT R``, or a block
-without them (fixed blocks, faces off the path) by more than the margin.
+sphere overlaps a block by more than ``INDENTER_DEPTH_LIMIT R``, or by more than the margin
+plus the indenter node spacing beyond what that block's indenter nodes feel (fixed blocks have
+none; a tip that slips off the loaded block into the gap meets its neighbour's side face, which
+has none).
 """
 
 from __future__ import annotations
