@@ -9,8 +9,12 @@ Counting, contact law and integration are documented in :mod:`dem.contact_nodes`
 
 Definitions of the results (:class:`IndentationResult`):
 
-- ``delta`` [m]: indenter travel since the start of indentation, where the sphere just touches
-  the top of the loaded block in its relaxed pose.
+- ``delta`` [m]: indenter travel since the start of indentation, where the sphere's lowest
+  point is level with the highest vertex of the loaded block in its relaxed pose: it just
+  touches a level top. Under a top that is not level (an inclined face, an axis off a tilted
+  block) the tip travels some way before it touches: ``info["delta_first_contact"]`` is the
+  first recorded ``delta`` with a positive load, and a warning gives it when it exceeds the
+  margin (subtract it to count from the contact).
 - ``load`` ``P`` [N]: mean indenter force over each recording interval, ``Delta W / Delta
   delta`` with ``W`` the work done by the indenter (so the area under the curve is ``W``).
 - peak load ``P_max`` [N] and deflection at peak ``delta_peak`` [m]: the largest recorded ``P``
@@ -374,6 +378,14 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         snapshots.append(_snapshot(model, sphere, float(peak_state["delta"]), "peak"))
         model.restore(saved)
     snapshots.sort(key=lambda snap: snap["delta"])
+    touching = np.flatnonzero(load > 0)
+    first_contact = float(delta[touching[0]]) if len(touching) else math.nan
+    if first_contact > settings.margin:
+        logger.warning(
+            "indent %s: the tip first touched after %.4g mm of travel (the top of block %d "
+            "under it is below its highest vertex): delta counts from the start above that "
+            "vertex", model.scene.name, first_contact / MM, model.indenter_block,
+        )  # fmt: skip
     n_nodes = model.nodes.n_nodes + len(model.indenter.block)
     info = {
         "dt": model.dt,
@@ -400,6 +412,7 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         "loaded_block": int(model.indenter_block),
         "stopped_by": st.stopped_by,
         "indenter_overlap_max": st.indenter_overlap_max,
+        "delta_first_contact": first_contact,
     }
     return IndentationResult(
         delta=delta, load=load, time=np.asarray(st.time), kinetic=np.asarray(st.kinetic),

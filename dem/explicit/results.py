@@ -46,7 +46,9 @@ class IndentationResult:
         dt, omega_max, nodes, entries, steps, wall times, cost per node per step, settings;
         ``stopped_by``: why the run stopped before its end (empty if it did not);
         ``indenter_overlap_max`` [m]: the deepest overlap of the tip with a block at the
-        records (see :meth:`dem.explicit.ExplicitModel.check_indenter`).
+        records (see :meth:`dem.explicit.ExplicitModel.check_indenter`);
+        ``delta_first_contact`` [m]: the first recorded travel with a positive load (NaN if
+        none; see :mod:`dem.explicit.indentation`).
     """
 
     delta: np.ndarray

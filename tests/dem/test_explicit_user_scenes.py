@@ -151,3 +151,18 @@ def test_tip_slipping_into_the_gap_beside_the_loaded_tile_stops_the_run():
     assert "overlaps block 13" in res.info["stopped_by"]
     assert "no indenter node of that block feels it" in res.info["stopped_by"]
     assert res.peak_reached and res.deflection_at_peak < res.delta[-1] < 4 * MM
+
+
+def test_free_travel_above_an_inclined_top_is_reported(caplog):
+    """A block whose top rises at 20 deg along x: the tip starts with its lowest point level
+    with the highest vertex, so above the axis (x = L / 2) it travels
+    ``L tan(20) / 2 + R - R / cos(20)`` = 1.756 mm before it touches the inclined face (delta
+    used to be documented as counting from the contact, with nothing to tell this travel)."""
+    rise = math.tan(math.radians(20.0))
+    top = [(x, y, SIDE + rise * x) for x in (0, SIDE) for y in (0, SIDE)]
+    wedge = np.array([(x, y, 0.0) for x in (0, SIDE) for y in (0, SIDE)] + top)
+    scene = Scene.from_convex_blocks([wedge, ground()], 2500.0, fixed=[1], mu=0.5)
+    res = indent(scene, max_deflection=2e-3)
+    expected = 0.5 * SIDE * rise + TIP - TIP / math.cos(math.radians(20.0))
+    assert expected - 1e-5 < res.info["delta_first_contact"] <= expected + 2e-5
+    assert "first touched after 1.767 mm" in caplog.text
