@@ -9,12 +9,19 @@ Counting, contact law and integration are documented in :mod:`dem.contact_nodes`
 
 Definitions of the results (:class:`IndentationResult`):
 
-- ``delta`` [m]: indenter travel since the start of indentation, where the sphere just touches
-  the top of the loaded block in its relaxed pose.
+- ``delta`` [m]: indenter travel since the start of indentation, where the sphere's lowest
+  point is level with the highest vertex of the loaded block in its relaxed pose: it just
+  touches a level top. Under a top that is not level (an inclined face, an axis off a tilted
+  block) the tip travels some way before it touches: ``info["delta_first_contact"]`` is the
+  first recorded ``delta`` with a positive load, and a warning gives it when it exceeds the
+  margin (subtract it to count from the contact).
 - ``load`` ``P`` [N]: mean indenter force over each recording interval, ``Delta W / Delta
   delta`` with ``W`` the work done by the indenter (so the area under the curve is ``W``).
 - peak load ``P_max`` [N] and deflection at peak ``delta_peak`` [m]: the largest recorded ``P``
-  and its ``delta``.
+  and its ``delta``. ``peak_reached``: ``P`` fell after it to ``stop_below_peak_fraction``
+  of it, or to :data:`~dem.explicit.results.PEAK_DROP_FRACTION` of it if that is None; when
+  False (the run ended, or was stopped, with the load still rising or level) ``P_max`` is only
+  the largest load so far, a lower bound, and a warning says so.
 - ultimate deflection ``delta_u`` [m]: the first ``delta`` after the peak at which ``P`` falls
   to ``ultimate_fraction * P_max`` and stays there for ``out_confirm`` of further travel (the
   loaded block has slipped out); NaN if the run ended before.
@@ -37,6 +44,7 @@ import numpy as np
 from dem.explicit.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
 from dem.explicit.model import ExplicitModel
 from dem.explicit.results import (
+    PEAK_DROP_FRACTION,
     IndentationResult,
     curve_summary,
     export_peak_state,
@@ -112,6 +120,7 @@ def simulate_indentation(
     if st is None:
         st = _RunState(key=key, relax=model.relax(relaxation), t0=model.t)
         st.centre0 = _sphere_start(model, block, indentation)
+        model.check_indenter(st.centre0, indentation.tip_radius, start=True)
         if ckpt is not None:
             st.save(ckpt, model)
     else:
@@ -128,8 +137,12 @@ def simulate_indentation(
         n = min(steps_per_record, n_steps_total - st.steps)
         try:
             acc = model.advance(n, indenter=ind)
+            centre = st.centre0 + ind["velocity"] * (model.t - st.t0)
+            overlap = model.check_indenter(centre, indentation.tip_radius)
+            st.indenter_overlap_max = max(st.indenter_overlap_max, overlap)
         except UnmodelledContactError as exc:
-            # the curve up to the last record holds; past it the blocks pass through each other
+            # the curve up to the last record holds; past it the blocks (or the indenter and a
+            # block) pass through each other
             logger.warning("indent %s stopped: %s", scene.name, exc)
             st.stopped_by = str(exc)
             break
@@ -177,7 +190,9 @@ def _sphere_start(model: ExplicitModel, block: int, indentation: IndentationSett
 
 _RECORDS = ("delta", "load", "time", "kinetic", "elastic", "work_hist", "entries")
 _SCALARS = ("steps", "work", "delta_now", "best_load", "finished", "t0", "relax",
-            "next_snapshot", "below_from", "stopped_by")  # fmt: skip
+            "next_snapshot", "below_from", "stopped_by", "indenter_overlap_max")  # fmt: skip
+_SCALARS_ADDED = {"stopped_by": "", "indenter_overlap_max": float("nan")}
+"""Scalars that older checkpoints lack, with the value a resumed run takes (nan: unknown)."""
 
 
 @dataclass
@@ -191,6 +206,7 @@ class _RunState:
     best_load: float = -math.inf
     finished: bool = False
     stopped_by: str = ""
+    indenter_overlap_max: float = 0.0
     centre0: np.ndarray = field(default_factory=lambda: np.zeros(3))
     t0: float = 0.0
     relax: dict = field(default_factory=dict)
@@ -298,8 +314,10 @@ class _RunState:
             return None
         try:
             model.restore(ExplicitState.from_arrays(arrays, "state."))
-            st = cls(key=key, **{name: meta[name] for name in _SCALARS if name != "stopped_by"})
-            st.stopped_by = meta.get("stopped_by", "")  # older checkpoints: none
+            kept = [name for name in _SCALARS if name not in _SCALARS_ADDED]
+            st = cls(key=key, **{name: meta[name] for name in kept})
+            for name, value in _SCALARS_ADDED.items():
+                setattr(st, name, meta.get(name, value))
             st.steps = int(st.steps)
             if "peak.t" in arrays:
                 st.peak = ExplicitState.from_arrays(arrays, "peak.")
@@ -334,7 +352,17 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
     loop_s, loop_cpu_s = loop
     delta = np.asarray(st.delta)
     load = np.asarray(st.load)
-    summary = curve_summary(delta, load, indentation.ultimate_fraction, indentation.out_confirm)
+    summary = curve_summary(delta, load, indentation.ultimate_fraction, indentation.out_confirm,
+                            indentation.stop_below_peak_fraction or PEAK_DROP_FRACTION)  # fmt: skip
+    if not summary["peak_reached"]:
+        logger.warning(
+            "indent %s: the peak was not reached (the load never fell below %.2g of its largest "
+            "value %.4g N, at %.4g mm of %.4g mm; %s): peak_load is the largest load so far, "
+            "a lower bound", model.scene.name,
+            indentation.stop_below_peak_fraction or PEAK_DROP_FRACTION,
+            summary["peak_load"], summary["deflection_at_peak"] / MM,
+            delta[-1] / MM if len(delta) else 0.0, st.stopped_by or "the run reached its end",
+        )  # fmt: skip
     pos = np.asarray(st.poses_pos).reshape(-1, model.n_blocks, 3)
     quat = np.asarray(st.poses_quat).reshape(-1, model.n_blocks, 4)
     snapshots = list(st.snapshots)
@@ -350,6 +378,14 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         snapshots.append(_snapshot(model, sphere, float(peak_state["delta"]), "peak"))
         model.restore(saved)
     snapshots.sort(key=lambda snap: snap["delta"])
+    touching = np.flatnonzero(load > 0)
+    first_contact = float(delta[touching[0]]) if len(touching) else math.nan
+    if first_contact > settings.margin:
+        logger.warning(
+            "indent %s: the tip first touched after %.4g mm of travel (the top of block %d "
+            "under it is below its highest vertex): delta counts from the start above that "
+            "vertex", model.scene.name, first_contact / MM, model.indenter_block,
+        )  # fmt: skip
     n_nodes = model.nodes.n_nodes + len(model.indenter.block)
     info = {
         "dt": model.dt,
@@ -375,6 +411,8 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         "relaxation": asdict(relaxation),
         "loaded_block": int(model.indenter_block),
         "stopped_by": st.stopped_by,
+        "indenter_overlap_max": st.indenter_overlap_max,
+        "delta_first_contact": first_contact,
     }
     return IndentationResult(
         delta=delta, load=load, time=np.asarray(st.time), kinetic=np.asarray(st.kinetic),

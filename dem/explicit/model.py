@@ -41,7 +41,13 @@ from dem.explicit.state import (
     Shapes,
 )
 from dem.explicit.timestep import choose_time_step, highest_frequency
-from dem.explicit.unmodelled import UnmodelledContactError, block_hulls, worst_overlap
+from dem.explicit.unmodelled import (
+    INDENTER_DEPTH_LIMIT,
+    UnmodelledContactError,
+    block_hulls,
+    sphere_overlap,
+    worst_overlap,
+)
 from dem.kernels.broadphase import build_pairs, carry_history, near_faces
 from dem.kernels.contact_force import (
     MU_RULE_MEAN,
@@ -128,6 +134,7 @@ class ExplicitModel:
             ind_spacing = min(
                 settings.node_spacing, INDENTER_NODES_PER_RADIUS_INV * indenter_radius
             )
+        self.indenter_spacing = float(ind_spacing)
         self.nodes: ContactNodes = seed_contact_nodes(
             asm, self.fixed, settings.node_spacing, settings.margin, axis_xy,
             indenter_radius, ind_spacing, settings.node_layout,
@@ -421,6 +428,75 @@ class ExplicitModel:
             sphere_contacts(indenter, self.state.motion, sc.rot, np.asarray(centre, float),
                             self.beta, sc.force, sc.torque)  # fmt: skip
         return sc.force, sc.torque, sc.out_force, sc.out_point, ind
+
+    def check_indenter(self, centre: np.ndarray, radius: float, start: bool = False) -> float:
+        """Refuse an indenter that overlaps a block more than the model represents.
+
+        With ``start`` the tip must be clear of every block (overlaps up to ``margin``).
+        Later it may overlap a block where that block's indenter nodes feel it (the overlap
+        less the depth of its deepest indenter node within ``margin`` plus the indenter node
+        spacing; no node: the contact would be skipped), and by at most
+        ``INDENTER_DEPTH_LIMIT * radius``. See :mod:`dem.explicit.unmodelled`.
+
+        Parameters
+        ----------
+        centre : (3,) float
+            Sphere centre [m].
+        radius : float
+            [m].
+        start : bool
+            The start of indentation.
+
+        Returns
+        -------
+        float
+            The largest overlap of the sphere with a block [m] (0 if none).
+
+        Raises
+        ------
+        UnmodelledContactError
+            Naming the block, the overlap and what is allowed.
+        """
+        centre = np.asarray(centre, dtype=float)
+        blocks, depths = sphere_overlap(centre, radius, self.bodies, self.shapes, self.pos,
+                                        self.rotations())  # fmt: skip
+        if len(blocks) == 0:
+            return 0.0
+        margin = self.settings.margin
+        felt = self._indenter_node_depth(centre, radius, blocks)
+        checks = (
+            (depths if start else np.zeros(len(blocks)), margin,
+             "at the start of indentation: the tip must start clear of every block"),
+            (depths - felt, margin + self.indenter_spacing,
+             "where no indenter node of that block feels it (nodes are seeded on the free "
+             "blocks' upward faces under the tip's path only), so the contact is skipped"),
+            (depths, INDENTER_DEPTH_LIMIT * radius,
+             f"more than {INDENTER_DEPTH_LIMIT:g} of its radius: k_n is far too low for the "
+             "load, and from here the load measures the sphere's penalty, not the blocks "
+             "(raise k_n or the tip radius)"),
+        )  # fmt: skip
+        for excess, allowed, why in checks:
+            k = int(np.argmax(excess))
+            if excess[k] > allowed:
+                raise UnmodelledContactError(
+                    f"the indenter (radius {radius:.3e} m, centre "
+                    f"{np.round(centre, 9).tolist()} m) overlaps block {blocks[k]} by "
+                    f"{depths[k]:.3e} m at t = {self.t:.6e} s ({excess[k]:.3e} m, at most "
+                    f"{allowed:.3e} m is a contact the model represents) {why}"
+                )
+        return float(depths.max())
+
+    def _indenter_node_depth(self, centre: np.ndarray, radius: float, blocks) -> np.ndarray:
+        """(k,) depth of the deepest indenter node of each of ``blocks`` inside the sphere
+        [m] (0 if none is inside)."""
+        ind = self.indenter
+        rot = self.rotations()[ind.block]
+        points = self.pos[ind.block] + np.einsum("kij,kj->ki", rot, ind.r0)
+        depth = radius - np.linalg.norm(points - centre, axis=1)
+        felt = np.zeros(len(blocks))
+        for k, b in enumerate(blocks):
+            felt[k] = max(0.0, depth[ind.block == b].max(initial=0.0))
+        return felt
 
     def kinetic_energy(self) -> float:
         """Kinetic energy of the free blocks with the inertial masses [J]."""

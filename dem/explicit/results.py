@@ -11,6 +11,10 @@ import numpy as np
 if TYPE_CHECKING:
     from dem.explicit.model import ExplicitModel
 
+PEAK_DROP_FRACTION = 0.85
+"""The peak of a P-delta curve counts as reached once the load has fallen after it to this
+fraction of it (the validation's studies of the peak load stop there)."""
+
 
 @dataclass
 class IndentationResult:
@@ -30,13 +34,21 @@ class IndentationResult:
         Poses of all blocks at every record.
     peak_load, deflection_at_peak, ultimate_deflection, loading_energy, energy_to_peak : float
         [N], [m], [m], [J], [J].
+    peak_reached : bool
+        The load fell after ``peak_load`` (see :mod:`dem.explicit.indentation`); if False,
+        ``peak_load`` is the largest load so far, a lower bound of the peak.
     snapshots : list of dict
         ``delta`` [m], ``pairs`` (p, 2) int, ``force`` (p, 3) [N] resultant on the first block
         of each pair, ``point`` (p, 3) [m] its point (force-weighted mean of nodal points).
     peak_state : dict
         Nodal forces at the peak record (see :func:`export_peak_state`).
     info : dict
-        dt, omega_max, nodes, entries, steps, wall times, cost per node per step, settings.
+        dt, omega_max, nodes, entries, steps, wall times, cost per node per step, settings;
+        ``stopped_by``: why the run stopped before its end (empty if it did not);
+        ``indenter_overlap_max`` [m]: the deepest overlap of the tip with a block at the
+        records (see :meth:`dem.explicit.ExplicitModel.check_indenter`);
+        ``delta_first_contact`` [m]: the first recorded travel with a positive load (NaN if
+        none; see :mod:`dem.explicit.indentation`).
     """
 
     delta: np.ndarray
@@ -52,6 +64,7 @@ class IndentationResult:
     ultimate_deflection: float
     loading_energy: float
     energy_to_peak: float
+    peak_reached: bool
     snapshots: list = field(default_factory=list)
     peak_state: dict = field(default_factory=dict)
     info: dict = field(default_factory=dict)
@@ -117,7 +130,11 @@ class LateralResult:
 
 
 def curve_summary(
-    delta: np.ndarray, load: np.ndarray, ultimate_fraction: float, out_confirm: float
+    delta: np.ndarray,
+    load: np.ndarray,
+    ultimate_fraction: float,
+    out_confirm: float,
+    peak_drop: float = PEAK_DROP_FRACTION,
 ) -> dict:
     """Peak load, deflection at peak, ultimate deflection and loading energy of a P-delta curve.
 
@@ -127,19 +144,22 @@ def curve_summary(
         [m], [N], with ``delta`` increasing.
     ultimate_fraction, out_confirm : float
         See :class:`IndentationSettings`.
+    peak_drop : float
+        The peak is reached once the load has fallen after it to this fraction of it.
 
     Returns
     -------
     dict
         ``peak_load`` [N], ``deflection_at_peak`` [m], ``ultimate_deflection`` [m] (NaN if not
-        reached), ``loading_energy`` [J], ``energy_to_peak`` [J].
+        reached), ``loading_energy`` [J], ``energy_to_peak`` [J], ``peak_reached`` (bool; False
+        also when no load was positive).
     """
     delta = np.asarray(delta, dtype=float)
     load = np.asarray(load, dtype=float)
     if len(delta) == 0:
         nan = float("nan")
         return dict(peak_load=nan, deflection_at_peak=nan, ultimate_deflection=nan,
-                    loading_energy=nan, energy_to_peak=nan)  # fmt: skip
+                    loading_energy=nan, energy_to_peak=nan, peak_reached=False)  # fmt: skip
     k_peak = int(np.argmax(load))
     p_max = float(load[k_peak])
     ultimate = float("nan")
@@ -158,9 +178,10 @@ def curve_summary(
     p0 = np.concatenate([[load[0]], load])
     energy = float(np.trapezoid(p0[: k_end + 2], d0[: k_end + 2]))
     energy_peak = float(np.trapezoid(p0[: k_peak + 2], d0[: k_peak + 2]))
+    reached = p_max > 0 and bool(np.any(load[k_peak + 1 :] <= peak_drop * p_max))
     return dict(peak_load=p_max, deflection_at_peak=float(delta[k_peak]),
                 ultimate_deflection=ultimate, loading_energy=energy,
-                energy_to_peak=energy_peak)  # fmt: skip
+                energy_to_peak=energy_peak, peak_reached=reached)  # fmt: skip
 
 
 def interface_resultants(

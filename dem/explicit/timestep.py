@@ -128,5 +128,9 @@ def choose_time_step(omega_max: float, settings) -> dict:
     elif math.isfinite(out["dt_critical"]):
         out["dt"] = settings.dt_safety * out["dt_critical"]
     else:
-        raise ValueError("no contact stiffness in the scene: give ExplicitSettings.dt")
+        raise ValueError(
+            "no contact stiffness in the scene: no two blocks have touching faces (contact "
+            "nodes are seeded only on faces that touch at the start; blocks that meet at an "
+            "edge or a corner get none); for blocks in free flight give ExplicitSettings.dt"
+        )
     return out
