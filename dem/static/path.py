@@ -13,10 +13,7 @@ Each live step prescribes the increment of a control ``w . u`` and solves for ``
   ``min_step_ratio`` first cost up to 40 Newton iterations per halving and left the path
   creeping in steps of 1e-3 first increments at a constant lambda (S6: stalled after 715 s);
 - **step size**: the increment adapts to the Newton iteration count (``target_iterations``),
-  halves on a failed step, and stays within ``max_step_factor`` first increments or, on a
-  flat stretch of the fixed control's path, ``max_step_fraction`` of the control
-  displacement so far (a plateau approached as a power of the displacement is reached in
-  geometrically growing steps);
+  halves on a failed step, and stays within ``max_step_factor`` first increments;
 - **cracking cascade**: when no step converges and the failed trial broke mortar joints, the
   cracks are kept and the path restarts from the last equilibrium (brittle snap-back);
 - **end**: the collapse criteria of :mod:`dem.collapse_criteria` (plateau relative to the
@@ -232,17 +229,8 @@ class PathFollower:
         # a loose step stalled at a kink of the law, which a shorter step does not remove
         target = self.settings.target_iterations
         growth = 1.0 if out.loose else math.sqrt(target / max(out.iterations, 1))
-        self.dc = min(self.dc * min(max(growth, 0.5), 2.0), self._step_cap())
+        self.dc = min(self.dc * min(max(growth, 0.5), 2.0), self.dc_max)
         return None
-
-    def _step_cap(self) -> float:
-        """Largest next increment: ``max_step_factor`` step units or, on a stretch of the
-        fixed control's path flat by the slope test, ``max_step_fraction`` of the control
-        displacement so far (a path that keeps rising, e.g. by arching, keeps the former)."""
-        if self.switched or not self.criteria.n_plateau:
-            return self.dc_max
-        ctrl = self.criteria.ctrl
-        return max(self.dc_max, self.settings.max_step_fraction * abs(ctrl[-1] - ctrl[0]))
 
     def _still_rising(self) -> str:
         """Why a path that reached ``max_steps`` is no collapse: how fast lambda still rises."""
@@ -255,5 +243,14 @@ class PathFollower:
             f"still rising at {100 * ratio:.2g} % of the initial slope after max_steps = "
             f"{self.settings.max_steps}"
         )
+        if ratio < self.settings.plateau_slope and criteria.peak > 0:
+            # flat by the slope test, yet the peak keeps rising along the path
+            rise = criteria.recent_rise() / criteria.peak
+            reason += (
+                f", and by {100 * rise:.2g} % over the last {self.settings.plateau_window:g} "
+                "of the path: a slow approach to a limit (a joint rocking on a shrinking "
+                "compressed part, e.g. the resultant law's about a corner) or slow hardening; "
+                "more max_steps, the fibre law or limit.limit_analysis give the limit"
+            )
         logger.warning(reason)
         return reason

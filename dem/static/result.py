@@ -72,10 +72,7 @@ class StaticResult:
         Incremental displacements of the last step, scaled to a largest translation of 1
         (zero for fixed blocks and restrained dofs).
     displacements : (n_blocks, 6) float
-        Total displacements at the end [m, rad]. The kinematics are small-displacement: on a
-        plateau the size of the motion is arbitrary (the steps there grow with the path, see
-        ``StaticSettings.max_step_fraction``); ``displacements_at_peak`` and ``mechanism``
-        are the ones to look at.
+        Total displacements at the end [m, rad].
     displacements_at_peak : (n_blocks, 6) float
         At ``lambda_max``.
     block_a, block_b : (m,) int64

@@ -177,15 +177,6 @@ class StaticSettings:
         dead over total live force): for a live load equal to the weight, ``d lambda``.
     max_step_factor : float
         Largest control increment, in first increments.
-    max_step_fraction : float
-        Where the fixed control's path is flat by the slope test (``plateau_slope``), an
-        increment may also reach this fraction of the control displacement since the start
-        of the live load (0: ``max_step_factor`` alone). A
-        plateau approached as a power of the displacement is then followed in steps that
-        grow geometrically: an elastic no-tension joint rocking about an edge or a corner
-        keeps a compressed part that shrinks only as ``theta^(-1/2)`` or ``theta^(-1/3)``,
-        and a block tipped about a corner by the resultant law was still 4.8 % below the
-        rigid-block multiplier after 400 steps of 200 first increments.
     max_steps : int
         Live-load steps at most.
     max_iterations : int
@@ -250,7 +241,6 @@ class StaticSettings:
     accept_tolerance: float | None = None
     load_step: float = 0.01
     max_step_factor: float = 200.0
-    max_step_fraction: float = 0.5
     max_steps: int = 400
     max_iterations: int = 30
     target_iterations: int = 10
@@ -294,7 +284,6 @@ class StaticSettings:
             "softening_drop",
             "plateau_rise",
             "plateau_window",
-            "max_step_fraction",
         ):
             _fraction(name, getattr(self, name))
         _positive("dead_min_step", self.dead_min_step)

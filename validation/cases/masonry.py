@@ -63,7 +63,6 @@ def _settings(spec: SeedSpecimen, model: str, quick: bool) -> StaticSettings:
         kw["load_step"] = 0.2 if quick else 0.05
         # brittle peaks: keep the control increments within 30 first increments
         kw["max_step_factor"] = 30.0
-        kw["max_step_fraction"] = 0.0
         if model == "fibre":
             kw["fibre_points"] = 3 if quick else 4
     if quick:
