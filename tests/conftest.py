@@ -13,6 +13,16 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 from dem.scene import Scene  # noqa: E402
 
 
+def pytest_configure(config):
+    """Under pytest-xdist, compile the numba kernels in the controlling process before the
+    workers start, so that they load the on-disk cache rather than write it at the same time
+    (:mod:`dem.warmup`)."""
+    if getattr(config.option, "numprocesses", None) and not hasattr(config, "workerinput"):
+        from dem.warmup import compile_kernels
+
+        compile_kernels()
+
+
 def box_corners(lo, hi) -> np.ndarray:
     """(8, 3) corners of the axis-aligned box ``[lo, hi]``."""
     return np.array(list(itertools.product(*zip(lo, hi, strict=True))), dtype=float)

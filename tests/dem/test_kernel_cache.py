@@ -70,3 +70,15 @@ def test_dem_kernels_use_a_directory_keyed_by_their_sources(tmp_path):
     assert source_keyed_cache_dir(copy).name == source_keyed_cache_dir(package).name
     (copy / "polygon.py").write_text((copy / "polygon.py").read_text() + "\n# edited\n")
     assert source_keyed_cache_dir(copy).name != source_keyed_cache_dir(package).name
+
+
+def test_compile_kernels_writes_the_cache_of_every_solver_kernel_module(tmp_path):
+    """dem.warmup, run in a process with an empty cache, leaves an on-disk index for the
+    kernels of both static laws, the stiffness, and the explicit DEM's contact forces and
+    integration, for workers started later to load."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    code = "from dem.warmup import compile_kernels; compile_kernels()"
+    subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, check=True)
+    cached = {p.name.split(".")[0] for p in tmp_path.rglob("*.nbi")}
+    for module in ("interface_law", "fibre_law", "stiffness", "contact_force", "integrate"):
+        assert module in cached, (module, sorted(cached))

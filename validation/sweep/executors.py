@@ -55,10 +55,15 @@ its default, so memory limits act as promptly."""
 
 def local_cluster(n_workers: int, threads_per_worker: int = 1):
     """A ``LocalCluster`` of ``n_workers`` worker processes with :data:`QUIET_WORKERS` (the
-    worker processes receive the settings when they start)."""
+    worker processes receive the settings when they start). The numba kernels are compiled
+    here first, so that the workers load the on-disk cache rather than write it at the same
+    time (:mod:`dem.warmup`)."""
     import dask
     from distributed import LocalCluster
 
+    from dem.warmup import compile_kernels
+
+    compile_kernels()
     with dask.config.set(QUIET_WORKERS):
         return LocalCluster(
             n_workers=n_workers,
