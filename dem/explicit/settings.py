@@ -177,7 +177,14 @@ class RelaxationSettings:
         Damping ratio at ``omega_max`` during relaxation (None: the solver's value).
     require_convergence : bool
         Raise when ``max_steps`` pass without meeting the tolerance (default); otherwise log a
-        warning and go on (a panel without interlock, theta = 0, never comes to rest).
+        warning and go on (a panel without interlock, theta = 0, never comes to rest). The
+        same for a block out of balance at the end (``unbalanced_tol``).
+    unbalanced_tol : float
+        Largest out-of-balance ratio accepted at the end of relaxation: a free block's net
+        force (external load plus contact forces), or net moment over its bounding radius, as
+        a fraction of the load it carries (its weight for a block resting on supports; see
+        :meth:`dem.explicit.model.ExplicitModel.unbalanced`). Default 1e-2; inf: no check.
+        The kinetic energy alone misses a heavy block that creeps under over-damping.
     """
 
     ke_speed: float = 1e-6
@@ -185,6 +192,7 @@ class RelaxationSettings:
     max_steps: int = 200000
     global_damping: float | None = 0.1
     require_convergence: bool = True
+    unbalanced_tol: float = 1e-2
 
     def __post_init__(self):
         if not self.ke_speed > 0:
@@ -207,6 +215,10 @@ class RelaxationSettings:
             raise ValueError(
                 f"RelaxationSettings.global_damping must be finite and >= 0, got "
                 f"{self.global_damping}"
+            )
+        if not self.unbalanced_tol > 0:
+            raise ValueError(
+                f"RelaxationSettings.unbalanced_tol must be positive, got {self.unbalanced_tol}"
             )
 
 

@@ -1,0 +1,77 @@
+"""Checks of the explicit solver's inputs and results: balance after relaxation."""
+
+import numpy as np
+import pytest
+
+from dem.explicit import (
+    ExplicitModel,
+    ExplicitSettings,
+    RelaxationSettings,
+    SimulationError,
+)
+from dem.scene import Scene
+
+G = 9.81
+HEAVY_MASS = 2.0  # [kg]
+HEAVY_SIDE = 0.05  # [m]
+
+
+def box(x0, y0, z0, sx, sy, sz):
+    return np.array(
+        [[x0 + i * sx, y0 + j * sy, z0 + k * sz] for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+    )
+
+
+GROUND = box(-0.05, -0.05, -0.01, 0.1, 0.1, 0.01)
+
+
+def heavy_on_light_plate():
+    """Fixed ground (block 0), a light plate (1) and on it a block 400 times denser (2)."""
+    plate = box(-0.03, -0.03, 0.0, 0.06, 0.06, 0.005)
+    heavy = box(-0.025, -0.025, 0.005, HEAVY_SIDE, HEAVY_SIDE, HEAVY_SIDE)
+    rho = HEAVY_MASS / HEAVY_SIDE**3
+    return Scene.from_convex_blocks([GROUND, plate, heavy], [rho / 400, rho / 400, rho],
+                                    fixed=[0], mu=0.5)  # fmt: skip
+
+
+def test_heavy_block_on_light_plate_is_out_of_balance_after_relaxation():
+    """The light plate sets omega_max, the damping over-damps the heavy block: it creeps slowly
+    enough for the kinetic energy to pass while the ground carries too little. Closed form: the
+    ground carries the total weight; what it misses is the heavy block's net force."""
+    scene = heavy_on_light_plate()
+    settings = ExplicitSettings(k_n=1e12, node_spacing=0.01)
+    with pytest.raises(SimulationError, match="block 2 out of balance"):
+        ExplicitModel(scene, settings).relax(RelaxationSettings())
+    model = ExplicitModel(scene, settings)
+    info = model.relax(RelaxationSettings(require_convergence=False))
+    assert info["kinetic"] <= info["tolerance"]
+    force, *_ = model.contact_wrenches()
+    weight = scene.assembly.mass[1:].sum() * G
+    missing = weight + force[0, 2]  # the ground's reaction is -force[0]
+    assert missing > 0.01 * HEAVY_MASS * G
+    assert info["unbalanced_block"] == 2
+    np.testing.assert_allclose(info["unbalanced_ratio"], missing / (HEAVY_MASS * G), rtol=1e-3)
+    # ten times slower, the block has settled: the ground carries its weight within 1 %
+    model = ExplicitModel(scene, settings)
+    info = model.relax(RelaxationSettings(ke_speed=1e-7))
+    force, *_ = model.contact_wrenches()
+    assert info["unbalanced_ratio"] < 1e-2
+    assert abs(weight + force[0, 2]) <= info["unbalanced_ratio"] * HEAVY_MASS * G * (1 + 1e-3)
+
+
+def test_block_resting_on_ground_is_in_balance():
+    """One block on the ground: the relaxation passes the balance check and the ground carries
+    its weight within the reported ratio."""
+    scene = Scene.from_convex_blocks([GROUND, box(0.0, 0.0, 0.0, 0.02, 0.02, 0.02)], 2500.0,
+                                     fixed=[0], mu=0.5)  # fmt: skip
+    model = ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=0.005))
+    info = model.relax(RelaxationSettings())
+    weight = scene.assembly.mass[1] * G
+    force, *_ = model.contact_wrenches()
+    assert info["unbalanced_ratio"] < 1e-2
+    assert abs(force[0, 2] + weight) <= info["unbalanced_ratio"] * weight * (1 + 1e-6)
+
+
+def test_unbalanced_tol_refuses_nonsense():
+    with pytest.raises(ValueError, match="unbalanced_tol"):
+        RelaxationSettings(unbalanced_tol=0.0)
