@@ -41,7 +41,8 @@ class ExplicitSettings:
         Neighbour-list and face-seeding margin [m]; default 0.1 mm. The list is rebuilt when a
         block has moved ``margin / 2``.
     mu : float or None
-        Friction coefficient of every block; None takes ``scene.assembly.mu`` (per block).
+        Friction coefficient of every block, ``inf``: no sliding (as in the scene); None takes
+        ``scene.assembly.mu`` (per block).
     mu_rule : {"mean", "min"}
         How two blocks' coefficients combine: the arithmetic mean (default) or the smaller.
     node_layout : {"centroid", "vertex"}
@@ -133,8 +134,8 @@ class ExplicitSettings:
             raise ValueError(f"dt must be finite and positive [s], got {self.dt}")
         if self.indenter_node_spacing is not None and not self.indenter_node_spacing > 0:
             raise ValueError("indenter_node_spacing must be positive [m]")
-        if self.mu is not None and not (math.isfinite(self.mu) and self.mu >= 0):
-            raise ValueError(f"mu must be finite and >= 0, got {self.mu}")
+        if self.mu is not None and not self.mu >= 0:
+            raise ValueError(f"mu must be >= 0 (inf: no sliding), got {self.mu}")
         if self.mu_rule not in ("mean", "min"):
             raise ValueError(f"mu_rule must be 'mean' or 'min', got {self.mu_rule!r}")
         if self.node_layout not in ("vertex", "centroid"):

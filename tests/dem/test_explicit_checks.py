@@ -1,4 +1,7 @@
-"""Checks of the explicit solver's inputs and results: balance after relaxation."""
+"""Checks of the explicit solver's inputs and results: balance after relaxation, mu = inf in
+the settings."""
+
+import math
 
 import numpy as np
 import pytest
@@ -75,3 +78,35 @@ def test_block_resting_on_ground_is_in_balance():
 def test_unbalanced_tol_refuses_nonsense():
     with pytest.raises(ValueError, match="unbalanced_tol"):
         RelaxationSettings(unbalanced_tol=0.0)
+
+
+SLOPE = math.radians(60.0)
+
+
+def incline_motion(scene_mu, settings_mu, angle=SLOPE, n_steps=4000):
+    """A flat block on ground tilted by ``angle`` (gravity turned), its centroid after
+    ``n_steps`` steps."""
+    top = box(0.0, 0.0, 0.0, 0.01, 0.01, 0.003)  # b / h = 3.3 > tan(60 deg): does not tip
+    scene = Scene.from_convex_blocks([GROUND, top], 2500.0, fixed=[0], mu=scene_mu, g=0.0)
+    dead = np.zeros((2, 6))
+    mass = scene.assembly.mass[1]
+    dead[1, 0], dead[1, 2] = mass * G * math.sin(angle), -mass * G * math.cos(angle)
+    settings = ExplicitSettings(k_n=1e10, node_spacing=0.0025, global_damping=0.0,
+                                mu=settings_mu)  # fmt: skip
+    model = ExplicitModel(scene.with_loads(dead=dead), settings)
+    model.advance(n_steps)
+    return model.pos[1].copy()
+
+
+def test_settings_mu_inf_is_scene_mu_inf():
+    """``ExplicitSettings(mu=inf)`` is no sliding, as ``mu = inf`` in the scene: the same motion
+    bit for bit; on a 60 degree slope the block sticks (elastic creep only), with mu = 0.3 it
+    slides."""
+    from_settings = incline_motion(0.3, math.inf)
+    from_scene = incline_motion(math.inf, None)
+    np.testing.assert_array_equal(from_settings, from_scene)
+    start = box(0.0, 0.0, 0.0, 0.01, 0.01, 0.003).mean(axis=0)
+    assert abs(from_settings[0] - start[0]) < 1e-6
+    assert incline_motion(0.3, None)[0] - start[0] > 1e-4
+    with pytest.raises(ValueError, match="mu"):
+        ExplicitSettings(k_n=1e10, mu=math.nan)
