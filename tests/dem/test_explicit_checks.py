@@ -1,5 +1,5 @@
 """Checks of the explicit solver's inputs and results: balance after relaxation, mu = inf in
-the settings."""
+the settings, the tilting table's direction."""
 
 import math
 
@@ -11,8 +11,10 @@ from dem.explicit import (
     ExplicitSettings,
     RelaxationSettings,
     SimulationError,
+    TiltingTable,
+    simulate_lateral,
 )
-from dem.scene import Scene
+from dem.scene import Scene, proportional_to_weight
 
 G = 9.81
 HEAVY_MASS = 2.0  # [kg]
@@ -110,3 +112,27 @@ def test_settings_mu_inf_is_scene_mu_inf():
     assert incline_motion(0.3, None)[0] - start[0] > 1e-4
     with pytest.raises(ValueError, match="mu"):
         ExplicitSettings(k_n=1e10, mu=math.nan)
+
+
+def table_scene(live_direction=None):
+    block = box(0.0, 0.0, 0.0, 0.02, 0.02, 0.02)
+    scene = Scene.from_convex_blocks([GROUND, block], 2500.0, fixed=[0], mu=0.5)
+    if live_direction is None:
+        return scene
+    return scene.with_loads(live=proportional_to_weight(scene.assembly, live_direction))
+
+
+def test_tilting_table_refuses_a_vertical_live_load():
+    """A live load with no horizontal component gives no tilt direction: refused, not +y."""
+    vertical = table_scene((0.0, 0.0, -1.0))
+    with pytest.raises(ValueError, match="horizontal"):
+        TiltingTable().wrench(vertical, 0.5)
+    with pytest.raises(ValueError, match="horizontal"):  # before any relaxation
+        simulate_lateral(vertical, driver=TiltingTable())
+    # a direction given, or a live load with a horizontal part, or none at all (+y) is fine
+    w = TiltingTable(direction=(1.0, 0.0, 0.0)).wrench(table_scene((0.0, 0.0, -1.0)), 0.5)
+    assert w[1, 0] > 0 and w[1, 1] == 0
+    w = TiltingTable().wrench(table_scene((-1.0, 0.0, -1.0)), 0.5)
+    np.testing.assert_allclose(w[1, 0] / w[1, 2], 0.5, rtol=1e-12)  # leans along -x
+    w = TiltingTable().wrench(table_scene(), 0.5)
+    np.testing.assert_allclose(w[1, 1] / -w[1, 2], 0.5, rtol=1e-12)
