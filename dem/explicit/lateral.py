@@ -140,8 +140,9 @@ class TiltingTable(_Schedule):
     ----------
     direction : (3,) tuple
         Horizontal direction ``d`` towards which the table tilts (the lateral component of
-        gravity points along it); default the scene's live-load direction if it has one,
-        else ``+y``.
+        gravity points along it); default the horizontal part of the scene's live load (its
+        net force) if it has one, else ``+y``. A live load without a horizontal part (vertical,
+        or moments only) gives no direction: refused with ``ValueError``, give ``direction``.
     """
 
     direction: tuple | None = None
@@ -167,11 +168,19 @@ class TiltingTable(_Schedule):
         if self.direction is not None:
             d = np.asarray(self.direction, dtype=float)
             return d / np.linalg.norm(d)
-        live = scene.loads.live_wrench[:, :3].sum(axis=0)
-        live[2] = 0.0
-        if np.linalg.norm(live) > 0:
-            return live / np.linalg.norm(live)
-        return np.array([0.0, 1.0, 0.0])
+        live_wrench = scene.loads.live_wrench
+        if not np.any(live_wrench):
+            return np.array([0.0, 1.0, 0.0])
+        live = live_wrench[:, :3].sum(axis=0)
+        horizontal = np.array([live[0], live[1], 0.0])
+        if np.linalg.norm(horizontal) <= HORIZONTAL_TOL * np.abs(live_wrench[:, :3]).sum():
+            raise ValueError(
+                f"TiltingTable: scene {scene.name!r} has a live load without a horizontal "
+                f"component (net force {live.tolist()} N), which gives no direction to tilt "
+                "towards: a tilting table needs a live load with a horizontal component or "
+                "TiltingTable(direction=...); for a vertical live load use LiveLoadRamp"
+            )
+        return horizontal / np.linalg.norm(horizontal)
 
 
 @dataclass(frozen=True)
@@ -185,6 +194,9 @@ class LiveLoadRamp(_Schedule):
 
 
 _EZ = np.array([0.0, 0.0, 1.0])
+HORIZONTAL_TOL = 1e-12
+"""A live load's net horizontal force at most this fraction of the sum of its force
+magnitudes counts as none (round-off): :class:`TiltingTable` refuses it as a direction."""
 DEVELOP_FACTOR = 4.0
 """Once bracketed, the mechanism is followed until a block has moved this many displacement
 thresholds; the blocks past one threshold are the moving blocks."""

@@ -64,6 +64,7 @@ from dem.kernels.integrate import (
     run_steps,
 )
 from dem.scene import Assembly, Scene
+from dem.units import G
 
 logger = logging.getLogger(__name__)
 
@@ -567,12 +568,22 @@ class ExplicitModel:
                                     self.settings.k_n))  # fmt: skip
 
     def relax(self, relaxation: RelaxationSettings) -> dict:
-        """Run under gravity until the kinetic energy is below the tolerance.
+        """Run under gravity until the kinetic energy is below the tolerance, then check that
+        every block is in balance.
 
         Returns
         -------
         dict
-            ``steps``, ``kinetic`` [J], ``tolerance`` [J], ``wall_s``.
+            ``steps``, ``kinetic`` [J], ``tolerance`` [J], ``unbalanced_ratio`` and
+            ``unbalanced_block`` (the block most out of balance at the end, see
+            :meth:`unbalanced`), ``wall_s``.
+
+        Raises
+        ------
+        SimulationError
+            With ``relaxation.require_convergence``: the kinetic energy did not meet its
+            tolerance in ``max_steps`` steps, or it did but a block is still out of balance by
+            more than ``relaxation.unbalanced_tol`` (otherwise both are logged as warnings).
         """
         self.check_supported()
         start = time.perf_counter()
@@ -602,8 +613,64 @@ class ExplicitModel:
                     raise SimulationError(message)
                 logger.warning("%s; going on", message)
                 break
-        return {"steps": steps, "kinetic": ke, "tolerance": tol,
-                "wall_s": time.perf_counter() - start}  # fmt: skip
+        info = {"steps": steps, "kinetic": ke, "tolerance": tol}
+        info.update(self._check_balance(relaxation, converged=ke <= tol))
+        info["wall_s"] = time.perf_counter() - start
+        return info
+
+    def unbalanced(self) -> np.ndarray:
+        """(n_blocks,) out-of-balance ratio of every block at the current state (0 if fixed).
+
+        The net force on a block (external load plus contact forces, in the directions it may
+        move), over the load it carries: the largest of its weight (under standard gravity if
+        the scene has none), its external load, and the force passing through it (half the sum
+        of the magnitudes of its contact forces: a light plate under a heavy block carries that
+        block's weight). The net moment counts too, over that load times the block's bounding
+        radius.
+        """
+        force, torque, entry_force, _, _ = self.contact_wrenches()
+        bodies, contacts = self.bodies, self.state.contacts
+        net = np.hstack([force + bodies.ext_force, torque + bodies.ext_torque])
+        net[bodies.restrained] = 0.0
+        magnitude = np.linalg.norm(entry_force, axis=1)
+        through = 0.5 * (
+            np.bincount(self.surface.block[contacts.node], magnitude, self.n_blocks)
+            + np.bincount(contacts.block, magnitude, self.n_blocks)
+        )
+        g = float(np.linalg.norm(self.scene.loads.gravity)) or G
+        carried = np.maximum.reduce(
+            [self.mass_true * g, np.linalg.norm(bodies.ext_force, axis=1), through]
+        )
+        out = np.maximum(np.linalg.norm(net[:, :3], axis=1),
+                         np.linalg.norm(net[:, 3:], axis=1) / bodies.radius)  # fmt: skip
+        ratio = out / carried
+        ratio[self.fixed] = 0.0
+        return ratio
+
+    def _check_balance(self, relaxation: RelaxationSettings, converged: bool) -> dict:
+        """``unbalanced_ratio`` and ``unbalanced_block`` (:meth:`unbalanced`, the largest);
+        above ``relaxation.unbalanced_tol`` raise or warn as for the kinetic energy
+        (``converged``: it met its tolerance)."""
+        ratio = self.unbalanced()
+        worst = int(np.argmax(ratio))
+        info = {"unbalanced_ratio": float(ratio[worst]), "unbalanced_block": worst}
+        if ratio[worst] > relaxation.unbalanced_tol:
+            message = (
+                f"relaxation ended with block {worst} out of balance: its net force (or "
+                f"moment over its radius) is {ratio[worst]:.3g} of the load it carries (tolerance "
+                f"{relaxation.unbalanced_tol:.3g})"
+            )
+            if converged:
+                message += (
+                    " although the kinetic energy met its tolerance: the damping holds it back "
+                    "(with blocks of very different mass the lightest sets the damping rate, "
+                    "which over-damps the heaviest: it creeps). Lower RelaxationSettings."
+                    "ke_speed (e.g. ten times) or global_damping"
+                )
+            if relaxation.require_convergence:
+                raise SimulationError(message)
+            logger.warning("%s; going on", message)
+        return info
 
     def _still_moving(self, start_pos: np.ndarray, n: int = 3) -> str:
         """The ``n`` fastest free blocks: speed and distance moved since ``start_pos`` (a block

@@ -41,7 +41,8 @@ class ExplicitSettings:
         Neighbour-list and face-seeding margin [m]; default 0.1 mm. The list is rebuilt when a
         block has moved ``margin / 2``.
     mu : float or None
-        Friction coefficient of every block; None takes ``scene.assembly.mu`` (per block).
+        Friction coefficient of every block, ``inf``: no sliding (as in the scene); None takes
+        ``scene.assembly.mu`` (per block).
     mu_rule : {"mean", "min"}
         How two blocks' coefficients combine: the arithmetic mean (default) or the smaller.
     node_layout : {"centroid", "vertex"}
@@ -133,8 +134,8 @@ class ExplicitSettings:
             raise ValueError(f"dt must be finite and positive [s], got {self.dt}")
         if self.indenter_node_spacing is not None and not self.indenter_node_spacing > 0:
             raise ValueError("indenter_node_spacing must be positive [m]")
-        if self.mu is not None and not (math.isfinite(self.mu) and self.mu >= 0):
-            raise ValueError(f"mu must be finite and >= 0, got {self.mu}")
+        if self.mu is not None and not self.mu >= 0:
+            raise ValueError(f"mu must be >= 0 (inf: no sliding), got {self.mu}")
         if self.mu_rule not in ("mean", "min"):
             raise ValueError(f"mu_rule must be 'mean' or 'min', got {self.mu_rule!r}")
         if self.node_layout not in ("vertex", "centroid"):
@@ -177,7 +178,14 @@ class RelaxationSettings:
         Damping ratio at ``omega_max`` during relaxation (None: the solver's value).
     require_convergence : bool
         Raise when ``max_steps`` pass without meeting the tolerance (default); otherwise log a
-        warning and go on (a panel without interlock, theta = 0, never comes to rest).
+        warning and go on (a panel without interlock, theta = 0, never comes to rest). The
+        same for a block out of balance at the end (``unbalanced_tol``).
+    unbalanced_tol : float
+        Largest out-of-balance ratio accepted at the end of relaxation: a free block's net
+        force (external load plus contact forces), or net moment over its bounding radius, as
+        a fraction of the load it carries (its weight for a block resting on supports; see
+        :meth:`dem.explicit.model.ExplicitModel.unbalanced`). Default 1e-2; inf: no check.
+        The kinetic energy alone misses a heavy block that creeps under over-damping.
     """
 
     ke_speed: float = 1e-6
@@ -185,6 +193,7 @@ class RelaxationSettings:
     max_steps: int = 200000
     global_damping: float | None = 0.1
     require_convergence: bool = True
+    unbalanced_tol: float = 1e-2
 
     def __post_init__(self):
         if not self.ke_speed > 0:
@@ -207,6 +216,10 @@ class RelaxationSettings:
             raise ValueError(
                 f"RelaxationSettings.global_damping must be finite and >= 0, got "
                 f"{self.global_damping}"
+            )
+        if not self.unbalanced_tol > 0:
+            raise ValueError(
+                f"RelaxationSettings.unbalanced_tol must be positive, got {self.unbalanced_tol}"
             )
 
 

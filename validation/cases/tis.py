@@ -16,6 +16,7 @@ perfect panel the contact state at peak load ``tis-peak-state.npz`` (FEM post-pr
 from __future__ import annotations
 
 import logging
+import math
 import os
 import tempfile
 import time
@@ -371,7 +372,12 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
         key = tuple(sorted(disc.items()))
         if key not in cache:
             start = time.perf_counter()
-            res, _ = run_panel(n, theta, k_n, disc, stop_below_peak_fraction=0.85)
+            # scaled masses relax with a damping force sqrt(mass_scaling) times larger: the
+            # 5x5 panel ends 0.19 % out of balance unscaled, 0.74 % at 10, 2.0 % at 100; the
+            # sweep measures what that does, so the relaxation is not refused
+            scaled = RelaxationSettings(unbalanced_tol=math.inf)
+            res, _ = run_panel(n, theta, k_n, disc, stop_below_peak_fraction=0.85,
+                               relaxation=scaled if disc["mass_scaling"] > 1 else None)  # fmt: skip
             cache[key] = (res, time.perf_counter() - start)
         return cache[key]
 

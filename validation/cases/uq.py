@@ -306,8 +306,12 @@ def tis_gaps_task(params: dict, seed: int) -> dict:
     if gap > 0:
         rng = np.random.default_rng(seed)
         scene = offset_faces(scene, uniform_contact_face_offsets(scene, gap, rng), "gaps")
-    # loose blocks settle: relax at least GAPS_RELAX_STEPS, until slower than 0.1 mm/s
-    relaxation = RelaxationSettings(ke_speed=1e-4, min_steps=GAPS_RELAX_STEPS)
+    # relax at least GAPS_RELAX_STEPS, until slower than 0.1 mm/s. The loose blocks do not
+    # settle in that time: in each of the 64 runs with gaps a free block touches nothing when
+    # the indenter starts (out-of-balance ratio 1; in the first run every free block, falling
+    # at the damping's terminal speed, 0.06 mm/s, 1.5 um down): not refused, as committed
+    relaxation = RelaxationSettings(ke_speed=1e-4, min_steps=GAPS_RELAX_STEPS,
+                                    unbalanced_tol=math.inf)  # fmt: skip
     res = _indent(scene, params, relaxation)
     return {
         "peak_load": res.peak_load,

@@ -1,0 +1,138 @@
+"""Checks of the explicit solver's inputs and results: balance after relaxation, mu = inf in
+the settings, the tilting table's direction."""
+
+import math
+
+import numpy as np
+import pytest
+
+from dem.explicit import (
+    ExplicitModel,
+    ExplicitSettings,
+    RelaxationSettings,
+    SimulationError,
+    TiltingTable,
+    simulate_lateral,
+)
+from dem.scene import Scene, proportional_to_weight
+
+G = 9.81
+HEAVY_MASS = 2.0  # [kg]
+HEAVY_SIDE = 0.05  # [m]
+
+
+def box(x0, y0, z0, sx, sy, sz):
+    return np.array(
+        [[x0 + i * sx, y0 + j * sy, z0 + k * sz] for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+    )
+
+
+GROUND = box(-0.05, -0.05, -0.01, 0.1, 0.1, 0.01)
+
+
+def heavy_on_light_plate():
+    """Fixed ground (block 0), a light plate (1) and on it a block 400 times denser (2)."""
+    plate = box(-0.03, -0.03, 0.0, 0.06, 0.06, 0.005)
+    heavy = box(-0.025, -0.025, 0.005, HEAVY_SIDE, HEAVY_SIDE, HEAVY_SIDE)
+    rho = HEAVY_MASS / HEAVY_SIDE**3
+    return Scene.from_convex_blocks([GROUND, plate, heavy], [rho / 400, rho / 400, rho],
+                                    fixed=[0], mu=0.5)  # fmt: skip
+
+
+def test_heavy_block_on_light_plate_is_out_of_balance_after_relaxation():
+    """The light plate sets omega_max, the damping over-damps the heavy block: it creeps slowly
+    enough for the kinetic energy to pass while the ground carries too little. Closed form: the
+    ground carries the total weight; what it misses is the heavy block's net force."""
+    scene = heavy_on_light_plate()
+    settings = ExplicitSettings(k_n=1e12, node_spacing=0.01)
+    with pytest.raises(SimulationError, match="block 2 out of balance"):
+        ExplicitModel(scene, settings).relax(RelaxationSettings())
+    model = ExplicitModel(scene, settings)
+    info = model.relax(RelaxationSettings(require_convergence=False))
+    assert info["kinetic"] <= info["tolerance"]
+    force, *_ = model.contact_wrenches()
+    weight = scene.assembly.mass[1:].sum() * G
+    missing = weight + force[0, 2]  # the ground's reaction is -force[0]
+    assert missing > 0.01 * HEAVY_MASS * G
+    assert info["unbalanced_block"] == 2
+    np.testing.assert_allclose(info["unbalanced_ratio"], missing / (HEAVY_MASS * G), rtol=1e-3)
+    # ten times slower, the block has settled: the ground carries its weight within 1 %
+    model = ExplicitModel(scene, settings)
+    info = model.relax(RelaxationSettings(ke_speed=1e-7))
+    force, *_ = model.contact_wrenches()
+    assert info["unbalanced_ratio"] < 1e-2
+    assert abs(weight + force[0, 2]) <= info["unbalanced_ratio"] * HEAVY_MASS * G * (1 + 1e-3)
+
+
+def test_block_resting_on_ground_is_in_balance():
+    """One block on the ground: the relaxation passes the balance check and the ground carries
+    its weight within the reported ratio."""
+    scene = Scene.from_convex_blocks([GROUND, box(0.0, 0.0, 0.0, 0.02, 0.02, 0.02)], 2500.0,
+                                     fixed=[0], mu=0.5)  # fmt: skip
+    model = ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=0.005))
+    info = model.relax(RelaxationSettings())
+    weight = scene.assembly.mass[1] * G
+    force, *_ = model.contact_wrenches()
+    assert info["unbalanced_ratio"] < 1e-2
+    assert abs(force[0, 2] + weight) <= info["unbalanced_ratio"] * weight * (1 + 1e-6)
+
+
+def test_unbalanced_tol_refuses_nonsense():
+    with pytest.raises(ValueError, match="unbalanced_tol"):
+        RelaxationSettings(unbalanced_tol=0.0)
+
+
+SLOPE = math.radians(60.0)
+
+
+def incline_motion(scene_mu, settings_mu, angle=SLOPE, n_steps=4000):
+    """A flat block on ground tilted by ``angle`` (gravity turned), its centroid after
+    ``n_steps`` steps."""
+    top = box(0.0, 0.0, 0.0, 0.01, 0.01, 0.003)  # b / h = 3.3 > tan(60 deg): does not tip
+    scene = Scene.from_convex_blocks([GROUND, top], 2500.0, fixed=[0], mu=scene_mu, g=0.0)
+    dead = np.zeros((2, 6))
+    mass = scene.assembly.mass[1]
+    dead[1, 0], dead[1, 2] = mass * G * math.sin(angle), -mass * G * math.cos(angle)
+    settings = ExplicitSettings(k_n=1e10, node_spacing=0.0025, global_damping=0.0,
+                                mu=settings_mu)  # fmt: skip
+    model = ExplicitModel(scene.with_loads(dead=dead), settings)
+    model.advance(n_steps)
+    return model.pos[1].copy()
+
+
+def test_settings_mu_inf_is_scene_mu_inf():
+    """``ExplicitSettings(mu=inf)`` is no sliding, as ``mu = inf`` in the scene: the same motion
+    bit for bit; on a 60 degree slope the block sticks (elastic creep only), with mu = 0.3 it
+    slides."""
+    from_settings = incline_motion(0.3, math.inf)
+    from_scene = incline_motion(math.inf, None)
+    np.testing.assert_array_equal(from_settings, from_scene)
+    start = box(0.0, 0.0, 0.0, 0.01, 0.01, 0.003).mean(axis=0)
+    assert abs(from_settings[0] - start[0]) < 1e-6
+    assert incline_motion(0.3, None)[0] - start[0] > 1e-4
+    with pytest.raises(ValueError, match="mu"):
+        ExplicitSettings(k_n=1e10, mu=math.nan)
+
+
+def table_scene(live_direction=None):
+    block = box(0.0, 0.0, 0.0, 0.02, 0.02, 0.02)
+    scene = Scene.from_convex_blocks([GROUND, block], 2500.0, fixed=[0], mu=0.5)
+    if live_direction is None:
+        return scene
+    return scene.with_loads(live=proportional_to_weight(scene.assembly, live_direction))
+
+
+def test_tilting_table_refuses_a_vertical_live_load():
+    """A live load with no horizontal component gives no tilt direction: refused, not +y."""
+    vertical = table_scene((0.0, 0.0, -1.0))
+    with pytest.raises(ValueError, match="horizontal"):
+        TiltingTable().wrench(vertical, 0.5)
+    with pytest.raises(ValueError, match="horizontal"):  # before any relaxation
+        simulate_lateral(vertical, driver=TiltingTable())
+    # a direction given, or a live load with a horizontal part, or none at all (+y) is fine
+    w = TiltingTable(direction=(1.0, 0.0, 0.0)).wrench(table_scene((0.0, 0.0, -1.0)), 0.5)
+    assert w[1, 0] > 0 and w[1, 1] == 0
+    w = TiltingTable().wrench(table_scene((-1.0, 0.0, -1.0)), 0.5)
+    np.testing.assert_allclose(w[1, 0] / w[1, 2], 0.5, rtol=1e-12)  # leans along -x
+    w = TiltingTable().wrench(table_scene(), 0.5)
+    np.testing.assert_allclose(w[1, 1] / -w[1, 2], 0.5, rtol=1e-12)
