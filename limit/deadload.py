@@ -134,7 +134,9 @@ def _involved(scene: Scene, vel: np.ndarray) -> tuple[tuple[int, ...], tuple[int
     return _ranked(speed), _ranked(rel)
 
 
-def stands(scene: Scene, settings: LimitSettings | None = None) -> StandsResult:
+def stands(
+    scene: Scene, settings: LimitSettings | None = None, mu: np.ndarray | None = None
+) -> StandsResult:
     """Check that a scene stands under its dead load (no live load is needed or used).
 
     Parameters
@@ -142,6 +144,9 @@ def stands(scene: Scene, settings: LimitSettings | None = None) -> StandsResult:
     scene : Scene
     settings : LimitSettings, optional
         Interface model and strengths, as for :func:`limit.limit_analysis`.
+    mu : (n_interfaces,) float, optional
+        Friction coefficient of each interface [-] in place of the scene's and
+        ``settings.mu`` (the reduced friction of :func:`limit.bounds_and_estimates`).
 
     Returns
     -------
@@ -167,6 +172,8 @@ def stands(scene: Scene, settings: LimitSettings | None = None) -> StandsResult:
             True, 1.0, None, reason="no dead load on any free dof", wall_s=time.perf_counter() - t0
         )
     sp_ = build_static_problem(_dead_load_scene(scene), settings)
+    if mu is not None:
+        sp_.set_friction(np.asarray(mu, dtype=float))
     # lambda = lam_scale * lam: cap the multiplier of the dead load at one
     cap = sp_.lam <= 1.0 / sp_.lam_scale
     sp_.problem = cp.Problem(sp_.problem.objective, [*sp_.problem.constraints, cap])

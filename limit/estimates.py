@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dem.scene import Scene
-from limit.deadload import require_standing
+from limit.deadload import require_standing, stands
 from limit.errors import (
     DeadLoadInfeasibleError,
     InconsistentBoundsError,
@@ -286,6 +286,40 @@ def frictionless_lower_bound(
     return lam, "frictionless (Radenkovic) lower bound"
 
 
+def _reduced_estimate(
+    scene: Scene, settings: LimitSettings, sp_: StaticProblem
+) -> tuple[float | None, str]:
+    """Estimate (a) on the compiled associated programme ``sp_`` (its friction is restored).
+
+    The associated problem with ``mu*`` has a collapse multiplier only if the structure
+    stands with ``mu*``: otherwise its admissible multipliers, if any, form an interval that
+    does not contain 0 (the live load props it) and the largest one is no estimate. That is
+    checked with :func:`limit.stands` at ``mu*`` (one more solve of the same size), whatever
+    ``settings.dead_load_check`` says (it concerns the friction ``mu``).
+
+    Returns
+    -------
+    lam : float or None
+        The estimate [-], None when there is none.
+    note : str
+    """
+    mu = sp_.mu_interface
+    mu_star = _reduced(mu)  # inf stays inf: no cone
+    sp_.set_friction(mu_star)
+    try:
+        lam = solve_static(sp_).lam
+        check = stands(scene, settings, mu=mu_star)
+    except LimitAnalysisError as exc:
+        logger.info("reduced-friction estimate failed: %s", exc)
+        return None, f"no estimate (a): {exc}"
+    finally:
+        sp_.set_friction(mu)
+    if not check.stands:
+        why = f"with mu* the structure cannot carry its dead load ({check.reason})"
+        return None, f"{why}: no estimate (a)"
+    return lam, "associated multiplier with mu* = mu / sqrt(1 + mu^2) per interface"
+
+
 @dataclass
 class Bounds:
     """Upper bound, estimates and lower bound of one scene and interface model.
@@ -306,6 +340,8 @@ class Bounds:
         The associated solution (forces and mechanism).
     wall_s : dict
         Wall time of each part [s].
+    reduced_note : str
+        Why estimate (a) is None, or what it is.
     issues : list of str
         Violations of the theorems' ordering (:meth:`ordering_issues`); empty when consistent.
     """
@@ -319,6 +355,7 @@ class Bounds:
     associated: LimitResult
     wall_s: dict = field(default_factory=dict)
     issues: list = field(default_factory=list)
+    reduced_note: str = ""
 
     @property
     def consistent(self) -> bool:
@@ -363,6 +400,7 @@ class Bounds:
             "model": self.model,
             "upper": self.upper,
             "reduced_mu": self.reduced_mu,
+            "reduced_note": self.reduced_note,
             "iterative": None if it is None else it.lam,
             "iterative_history": None if it is None else it.history,
             "iterative_converged": None if it is None else it.converged,
@@ -418,15 +456,7 @@ def bounds_and_estimates(
     require_standing(scene, settings)
     times["upper"] = time.perf_counter() - t
     t = time.perf_counter()
-    mu = sp_.mu_interface
-    mu_star = _finite(_reduced(mu))  # no cone where mu = inf
-    reduced = None
-    sp_.mu.value = mu_star[sp_.vertex_iface] if sp_.model == "vertex" else mu_star
-    try:
-        reduced = solve_static(sp_).lam
-    except LimitAnalysisError as exc:
-        logger.info("reduced-friction estimate failed: %s", exc)
-    sp_.mu.value = _finite(mu)[sp_.vertex_iface] if sp_.model == "vertex" else _finite(mu)
+    reduced, reduced_note = _reduced_estimate(scene, settings, sp_)
     times["reduced_mu"] = time.perf_counter() - t
     it = None
     if iterate:
@@ -445,6 +475,7 @@ def bounds_and_estimates(
         lower=lo,
         lower_note=note,
         associated=upper,
+        reduced_note=reduced_note,
         wall_s=times,
     )
     bounds.issues = bounds.ordering_issues()

@@ -1,0 +1,47 @@
+"""Limit analysis of scenes built by hand from convex blocks, against closed forms."""
+
+import math
+
+import numpy as np
+import pytest
+
+import limit
+from dem import Scene
+from dem.scene import proportional_to_weight
+from limit import LimitSettings
+from tests.limit._scenes import GROUND, box
+
+
+def _uphill_pushed_block(tan_theta: float, mu: float) -> tuple[Scene, float]:
+    """A 0.2 m cube on a ground tilted by ``theta`` (downhill towards -x), pushed uphill
+    along the slope by lambda times its weight. Returns the scene and ``theta`` [rad]."""
+    theta = math.atan(tan_theta)
+    c, s = math.cos(theta), math.sin(theta)
+    rot = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
+    blk = box((-0.1, -0.1, 0.0), (0.1, 0.1, 0.2))
+    scene = Scene.from_convex_blocks([GROUND @ rot.T, blk @ rot.T], 2000.0, fixed=[0], mu=mu)
+    uphill = rot @ np.array([1.0, 0.0, 0.0])
+    return scene.with_loads(live=proportional_to_weight(scene.assembly, uphill)), theta
+
+
+@pytest.mark.parametrize("model", ["vertex", "resultant"])
+def test_reduced_friction_estimate_of_a_block_that_slides_down_with_mu_star(model):
+    """tan(theta) = 0.55 lies between mu* = 0.6 / sqrt(1.36) = 0.514 and mu = 0.6: the block
+    stands, and slides uphill at lambda = sin(theta) + mu cos(theta) (closed form). With
+    mu* it slides down by itself, so the associated problem with mu* has no collapse
+    multiplier: its admissible multipliers are [0.031, 0.933], and the largest one was
+    returned as estimate (a) before."""
+    scene, theta = _uphill_pushed_block(0.55, 0.6)
+    b = limit.bounds_and_estimates(scene, LimitSettings(interface_model=model))
+    assert b.upper == pytest.approx(math.sin(theta) + 0.6 * math.cos(theta), rel=1e-6)
+    assert b.reduced_mu is None
+    assert "dead load" in b.reduced_note
+
+
+def test_reduced_friction_estimate_of_a_block_that_stands_with_mu_star():
+    """tan(theta) = 0.4 < mu* = 0.514: estimate (a) is the closed form with mu*."""
+    scene, theta = _uphill_pushed_block(0.4, 0.6)
+    b = limit.bounds_and_estimates(scene)
+    mu_star = 0.6 / math.sqrt(1.36)
+    assert b.reduced_mu == pytest.approx(math.sin(theta) + mu_star * math.cos(theta), rel=1e-6)
+
