@@ -274,7 +274,8 @@ def frictionless_lower_bound(
         other than the trivial statement that nothing is proven).
     note : str
     """
-    settings = (settings or LimitSettings()).with_(mu=0.0)
+    # the dead-load check of the caller concerns mu, not the frictionless structure
+    settings = (settings or LimitSettings()).with_(mu=0.0, dead_load_check=True)
     try:
         res = limit_analysis(scene, settings)
     except NoMechanismError:

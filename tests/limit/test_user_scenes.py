@@ -45,3 +45,13 @@ def test_reduced_friction_estimate_of_a_block_that_stands_with_mu_star():
     mu_star = 0.6 / math.sqrt(1.36)
     assert b.reduced_mu == pytest.approx(math.sin(theta) + mu_star * math.cos(theta), rel=1e-6)
 
+
+def test_frictionless_lower_bound_of_a_propped_block_without_the_dead_load_check():
+    """Without friction the block on the slope stands only while pushed uphill by exactly
+    sin(theta) times its weight, so there is no frictionless lower bound. The cross-check
+    switches ``dead_load_check`` off once the scene is known to stand with mu; the
+    frictionless programme must still be checked (it returned sin(theta) = 0.482 before)."""
+    scene, _ = _uphill_pushed_block(0.55, 0.6)
+    b = limit.bounds_and_estimates(scene, LimitSettings(dead_load_check=False))
+    assert b.lower is None
+    assert "cannot carry its dead load" in b.lower_note
