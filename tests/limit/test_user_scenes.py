@@ -55,3 +55,17 @@ def test_frictionless_lower_bound_of_a_propped_block_without_the_dead_load_check
     b = limit.bounds_and_estimates(scene, LimitSettings(dead_load_check=False))
     assert b.lower is None
     assert "cannot carry its dead load" in b.lower_note
+
+
+@pytest.mark.parametrize("mu", [0.5, 0.0])
+def test_kinematic_form_refuses_a_block_that_slides_down_by_itself(mu):
+    """mu < tan(theta) = 0.55: the block slides down unless pushed uphill by at least
+    sin(theta) - mu cos(theta) times its weight, so no multiplier is a collapse multiplier.
+    The static form refuses it; the kinematic form returned the top of the propped interval,
+    sin(theta) + mu cos(theta) (0.920 for mu = 0.5, 0.482 for mu = 0)."""
+    scene, _ = _uphill_pushed_block(0.55, 0.6)
+    settings = LimitSettings(mu=mu)
+    with pytest.raises(limit.DeadLoadInfeasibleError):
+        limit.limit_analysis(scene, settings)
+    with pytest.raises(limit.DeadLoadInfeasibleError):
+        limit.kinematic_analysis(scene, settings)
