@@ -80,7 +80,9 @@ class StandsResult:
 
 def unsupported_blocks(scene: Scene) -> tuple[np.ndarray, str]:
     """Loaded free blocks that nothing can hold: all of them when the scene has no support,
-    else those that touch no other block. Returns ``(blocks, reason)`` (empty when none)."""
+    else those that share no face (interface) with another block: edge and corner
+    contacts carry nothing in the interface model. Returns ``(blocks, reason)`` (empty when
+    none)."""
     sup = scene.supports
     free = sup.free_dofs
     loaded = (np.abs(scene.dead_wrench) * free).any(axis=1)
@@ -96,8 +98,9 @@ def unsupported_blocks(scene: Scene) -> tuple[np.ndarray, str]:
     lonely = np.flatnonzero(~touched & loaded)
     if lonely.size:
         return lonely, (
-            f"blocks {lonely[:10].tolist()} touch no other block and are loaded on a free dof: "
-            "they fall down by themselves (missing support)."
+            f"blocks {lonely[:10].tolist()} touch no other block on a face and are loaded on a "
+            "free dof: they fall down by themselves (missing support; an interface is a pair "
+            "of coplanar faces, so a contact on an edge or a corner only carries nothing)."
         )
     return lonely, ""
 

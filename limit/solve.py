@@ -67,7 +67,7 @@ def check_scene(scene: Scene) -> None:
     Raises
     ------
     DeadLoadInfeasibleError
-        No support at all, or loaded blocks that touch no other block (named).
+        No support at all, or loaded blocks that touch no other block on a face (named).
     NoMechanismError
         The live load does no work on any free dof.
     """

@@ -69,3 +69,37 @@ def test_kinematic_form_refuses_a_block_that_slides_down_by_itself(mu):
         limit.limit_analysis(scene, settings)
     with pytest.raises(limit.DeadLoadInfeasibleError):
         limit.kinematic_analysis(scene, settings)
+
+
+def _leaning_plank() -> Scene:
+    """A 1 m plank leaning at 60 degrees between a fixed floor and a fixed wall: its lower
+    edge rests on the floor and its upper edge on the wall face, both line contacts."""
+    wall = box((0.0, -1.0, 0.0), (0.2, 1.0, 2.0))
+    a = math.radians(60.0)
+    c, s = math.cos(a), math.sin(a)
+    # plank axis (-c, 0, s) up from its foot, thickness along the normal (s, 0, c)
+    foot = np.array([-c * 1.0 - 0.05 * s, 0.0, 0.0])
+    axis, normal = np.array([c, 0.0, s]), np.array([-s, 0.0, c])
+    corners = [
+        foot + u * axis + v * normal + (0.0, y, 0.0)
+        for u in (0.0, 1.0)
+        for v in (0.0, 0.05)
+        for y in (-0.2, 0.2)
+    ]
+    plank = np.array(corners)
+    plank[:, 0] -= plank[:, 0].max()  # touch the wall face x = 0
+    plank[:, 2] -= plank[:, 2].min()  # and the floor z = 0
+    floor = box((-2.0, -1.0, -0.2), (0.0, 1.0, 0.0))
+    return Scene.from_convex_blocks([floor, wall, plank], 2000.0, fixed=[0, 1], mu=0.6)
+
+
+def test_a_block_held_by_edge_contacts_only_is_reported_as_such():
+    """Line contacts carry nothing in the interface model (interfaces are coplanar faces):
+    the plank has no interface, so it falls. The error must say that it touches no block
+    on a face, not that it touches no block (it touches two)."""
+    scene = _leaning_plank()
+    faces = scene.assembly.interfaces()
+    assert 2 not in set(faces.block_a) | set(faces.block_b)
+    result = limit.stands(scene)
+    assert not result.stands and result.blocks == (2,)
+    assert "edge" in result.reason and "face" in result.reason
