@@ -271,7 +271,7 @@ def fem_checks(ctx: Context) -> list[Check]:
     detail = f"state {fem.settings['state']}, {v['n_solved']} blocks solved"
     if v["not_in_equilibrium"]:
         detail += f"; blocks out of equilibrium: {v['not_in_equilibrium']}"
-    return [
+    out = [
         Check(
             "FEM residual small (DEM state in equilibrium)",
             PASS if ok else FAIL,
@@ -280,6 +280,9 @@ def fem_checks(ctx: Context) -> list[Check]:
             detail,
         )
     ]
+    if v.get("not_meshed"):
+        out.append(Check("FEM meshed every free block", FAIL, detail=fem.reason))
+    return out
 
 
 def verdict(ctx: Context, rtol: float = 1e-3, agree_rtol: float = 0.05) -> list[Check]:
