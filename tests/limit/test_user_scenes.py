@@ -146,3 +146,19 @@ def test_a_bisection_cut_short_by_max_steps_is_refused():
     value is returned (it was, 0.1069, off by 0.4 %)."""
     with pytest.raises(ValueError, match="max_steps"):
         limit.geometric_safety_factor(_arch, 0.09, 0.12, rtol=1e-3, max_steps=3)
+
+
+def test_the_crosscheck_says_why_estimate_a_is_missing(tmp_path):
+    """The report's note beside a missing estimate (a) gives the reason, as for the lower
+    bound (it was empty)."""
+    from validation.crosscheck import CrosscheckSettings, crosscheck
+
+    scene, _ = _uphill_pushed_block(0.55, 0.6)
+    result = crosscheck(scene, CrosscheckSettings.quick(methods=("dead", "limit")), tmp_path)
+    for model in ("vertex", "resultant"):
+        values = result.step(f"limit-{model}").values
+        assert values["reduced_mu"] is None and values["lower"] is None
+        assert "cannot carry its dead load" in values["reduced_note"]
+    report = (tmp_path / "report.md").read_text()
+    row = next(x for x in report.splitlines() if x.startswith("| estimate (a) mu* (vertex"))
+    assert "cannot carry its dead load" in row
