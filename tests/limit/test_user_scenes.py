@@ -162,3 +162,27 @@ def test_the_crosscheck_says_why_estimate_a_is_missing(tmp_path):
     report = (tmp_path / "report.md").read_text()
     row = next(x for x in report.splitlines() if x.startswith("| estimate (a) mu* (vertex"))
     assert "cannot carry its dead load" in row
+
+
+@pytest.mark.parametrize("angle_deg", [0.0, 30.0, 135.0, 300.0])
+@pytest.mark.parametrize("model", ["vertex", "resultant"])
+def test_a_tetrahedron_tips_about_a_base_edge(model, angle_deg):
+    """A tetrahedron on its right-triangle face (legs 0.3 m, apex 0.25 m above the base
+    centroid), no sliding, pushed horizontally along ``d`` by lambda times its weight. It
+    rocks about the base edge that minimises ``dist(c, edge) / (z_c n.d)`` over the edges
+    whose outward normal ``n`` has ``n.d > 0`` (a tangent line through a corner is never
+    better: the ratio is monotone between the two edge normals); ``c`` is the centroid."""
+    tet = np.array([[0.0, 0.0, 0.0], [0.3, 0.0, 0.0], [0.0, 0.3, 0.0], [0.1, 0.1, 0.25]])
+    c = tet.mean(axis=0)
+    a = math.radians(angle_deg)
+    d = np.array([math.cos(a), math.sin(a), 0.0])
+    expected = math.inf
+    for p, q in ((0, 1), (1, 2), (2, 0)):
+        edge = tet[q, :2] - tet[p, :2]
+        n = np.array([edge[1], -edge[0]]) / np.linalg.norm(edge)  # outward (counter-clockwise)
+        if n @ d[:2] > 0:
+            expected = min(expected, n @ (tet[p, :2] - c[:2]) / (c[2] * (n @ d[:2])))
+    scene = Scene.from_convex_blocks([GROUND, tet], 2000.0, fixed=[0], mu=math.inf)
+    scene = scene.with_loads(live=proportional_to_weight(scene.assembly, d))
+    lam = limit.limit_analysis(scene, LimitSettings(interface_model=model)).lam
+    assert lam == pytest.approx(expected, rel=1e-6)
