@@ -343,6 +343,10 @@ class Bounds:
         Wall time of each part [s].
     reduced_note : str
         Why estimate (a) is None, or what it is.
+    lam_unit : float
+        The multiplier at which the live load's force equals the dead weight (``W / |F_L|``,
+        the programme's scale of lambda) [unit of lambda]; the absolute allowance of
+        :meth:`ordering_issues` is relative to it.
     issues : list of str
         Violations of the theorems' ordering (:meth:`ordering_issues`); empty when consistent.
     """
@@ -357,6 +361,7 @@ class Bounds:
     wall_s: dict = field(default_factory=dict)
     issues: list = field(default_factory=list)
     reduced_note: str = ""
+    lam_unit: float = 1.0
 
     @property
     def consistent(self) -> bool:
@@ -373,7 +378,7 @@ class Bounds:
         """
 
         def above(a, b):
-            return a is not None and b is not None and a > b * (1 + rtol) + rtol
+            return a is not None and b is not None and a > b * (1 + rtol) + rtol * self.lam_unit
 
         it = self.iterative
         named = {
@@ -477,6 +482,7 @@ def bounds_and_estimates(
         lower_note=note,
         associated=upper,
         reduced_note=reduced_note,
+        lam_unit=sp_.lam_scale,
         wall_s=times,
     )
     bounds.issues = bounds.ordering_issues()

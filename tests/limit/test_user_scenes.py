@@ -186,3 +186,30 @@ def test_a_tetrahedron_tips_about_a_base_edge(model, angle_deg):
     scene = scene.with_loads(live=proportional_to_weight(scene.assembly, d))
     lam = limit.limit_analysis(scene, LimitSettings(interface_model=model)).lam
     assert lam == pytest.approx(expected, rel=1e-6)
+
+
+def test_an_estimate_above_the_upper_bound_is_caught_whatever_the_load_unit(monkeypatch):
+    """The ordering check had an absolute allowance of 1e-6 in lambda: with the live load
+    given as a 1e10 N push (upper bound 0.6 W / 1e10 = 2.4e-7), an estimate (b) three times
+    the upper bound passed. The allowance is now relative to the multiplier at which the
+    live load equals the weight."""
+    import limit.estimates as est
+
+    real = est.iterative_estimate
+
+    def wrong(*args, **kw):
+        it = real(*args, **kw)
+        it.lam = 3.0 * kw["start"].lam
+        return it
+
+    monkeypatch.setattr(est, "iterative_estimate", wrong)
+    blk = box((-0.5, -0.5, 0.0), (0.5, 0.5, 0.2))
+    scene = Scene.from_convex_blocks([GROUND, blk], 2000.0, fixed=[0], mu=0.6)
+    live = np.zeros((2, 6))
+    live[1, 0] = 1e10
+    scene = scene.with_loads(live=live)
+    weight = scene.assembly.mass[1] * 9.81
+    b = limit.bounds_and_estimates(scene, strict=False)
+    assert b.upper == pytest.approx(0.6 * weight / 1e10, rel=1e-6)
+    assert not b.consistent
+    assert b.issues[0].startswith("estimate (b)")
