@@ -213,3 +213,30 @@ def test_an_estimate_above_the_upper_bound_is_caught_whatever_the_load_unit(monk
     assert b.upper == pytest.approx(0.6 * weight / 1e10, rel=1e-6)
     assert not b.consistent
     assert b.issues[0].startswith("estimate (b)")
+
+
+def test_the_crosscheck_verdict_catches_an_estimate_above_the_bound_in_any_load_unit(
+    monkeypatch, tmp_path
+):
+    """The verdict allowed an absolute 1e-3 in lambda: with a 1e10 N live push (upper bound
+    2.4e-7) an estimate (b) three times the upper bound was a 'pass'."""
+    import limit.estimates as est
+    from validation.crosscheck import CrosscheckSettings, crosscheck
+
+    real = est.iterative_estimate
+
+    def wrong(*args, **kw):
+        it = real(*args, **kw)
+        it.lam = 3.0 * kw["start"].lam
+        return it
+
+    monkeypatch.setattr(est, "iterative_estimate", wrong)
+    blk = box((-0.5, -0.5, 0.0), (0.5, 0.5, 0.2))
+    scene = Scene.from_convex_blocks([GROUND, blk], 2000.0, fixed=[0], mu=0.6)
+    live = np.zeros((2, 6))
+    live[1, 0] = 1e10
+    scene = scene.with_loads(live=live)
+    result = crosscheck(scene, CrosscheckSettings.quick(methods=("limit",)), tmp_path)
+    check = next(c for c in result.checks if c.name == "estimate (b) within bounds (vertex)")
+    assert check.status == "fail"
+    assert not result.consistent
