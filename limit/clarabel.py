@@ -171,9 +171,12 @@ def run_clarabel(
     problem: cp.Problem, settings: LimitSettings, attempt: Attempt = REFINED
 ) -> tuple[str, float]:
     """One Clarabel solve; return cvxpy's status (``"solver_error"`` when Clarabel raised)
-    and the solver time [s]."""
+    and the solver time [s]. cvxpy's own warning on an inaccurate status is silenced: the
+    status is returned, and :func:`solve_static` retries, refuses or warns once itself."""
     try:
-        problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **attempt.options(settings))
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="Solution may be inaccurate")
+            problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **attempt.options(settings))
     except cp.error.SolverError as exc:
         logger.info("Clarabel failed (%s attempt): %s", attempt.label, exc)
         return "solver_error", 0.0
