@@ -259,3 +259,60 @@ def test_an_accurate_result_after_a_retry_comes_without_a_warning():
     assert res.attempts == [("refined", "optimal_inaccurate"), ("tightened", "optimal")]
     assert res.lam == pytest.approx(0.1, rel=1e-6)
     assert [str(w.message) for w in caught] == []
+
+
+def _chip_on_a_block(tan_theta: float, chip_density: float) -> Scene:
+    """A 0.2 m cube (the chip, mu = 0.25 beneath it) on a free 1 m cube on a fixed ground,
+    all tilted by ``theta`` (the big cube's joint has mu = 1); densities 2000 and
+    ``chip_density`` kg/m^3. The chip slides iff tan(theta) > 0.25."""
+    theta = math.atan(tan_theta)
+    c, s = math.cos(theta), math.sin(theta)
+    rot = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
+    big = box((-0.5, -0.5, 0.0), (0.5, 0.5, 1.0))
+    chip = box((-0.1, -0.1, 1.0), (0.1, 0.1, 1.2))
+    return Scene.from_convex_blocks(
+        [GROUND @ rot.T, big @ rot.T, chip @ rot.T],
+        [2000.0, 2000.0, chip_density],
+        fixed=[0],
+        mu=[1.0, 1.0, 0.25],
+    )
+
+
+@pytest.mark.parametrize("model", ["vertex", "resultant"])
+def test_a_light_block_is_never_certified_on_a_wrong_answer(model):
+    """The certificate measured every residual against the total weight W: a chip of 8e-8 W
+    that slides (tan 0.27 > mu 0.25) was certified as standing, its friction exceeded by
+    0.4 % of its own weight (2e-10 W). Now each interface's strength and each block's
+    equilibrium are also checked against the loads of its own blocks: the right answer, or
+    a NumericalFailureError, never a certified wrong one."""
+    assert not limit.stands(_chip_on_a_block(0.27, 2000.0)).stands  # 8e-3 W: resolved
+    light = _chip_on_a_block(0.27, 0.02)
+    assert light.assembly.mass[2] / light.assembly.mass[1:].sum() < 1e-7
+    try:
+        result = limit.stands(light, LimitSettings(interface_model=model))
+    except limit.NumericalFailureError as exc:
+        assert "loads of its own blocks" in str(exc)
+    else:
+        assert not result.stands
+
+
+@pytest.mark.parametrize("model", ["vertex", "resultant"])
+def test_the_multiplier_of_a_light_block_is_right_or_refused(model):
+    """A 0.2 x 0.2 x 0.6 m block of density 2e-3 kg/m^3 (2.4e-8 of the structure's weight) on
+    a 1 m cube, pushed sideways by lambda times its own weight: it slides at lambda = mu =
+    0.25. The certificate relative to the total weight passed 0.2623 (vertex) and 0.2300
+    (resultant)."""
+    big = box((-0.5, -0.5, 0.0), (0.5, 0.5, 1.0))
+    chip = box((-0.1, -0.1, 1.0), (0.1, 0.1, 1.6))
+    scene = Scene.from_convex_blocks(
+        [GROUND, big, chip], [2000.0, 2000.0, 2e-3], fixed=[0], mu=0.25
+    )
+    live = np.zeros((3, 6))
+    live[2, 0] = scene.assembly.mass[2] * 9.81
+    scene = scene.with_loads(live=live)
+    try:
+        lam = limit.limit_analysis(scene, LimitSettings(interface_model=model)).lam
+    except limit.NumericalFailureError as exc:
+        assert "loads of its own blocks" in str(exc)
+    else:
+        assert lam == pytest.approx(0.25, rel=2e-3)
