@@ -49,7 +49,7 @@ from fem_check.loads import (
     TractionPatch,
     check_equilibrium,
 )
-from fem_check.mesh import BlockMesh, MeshCache, MeshSettings, TetMesh
+from fem_check.mesh import BlockMesh, MeshCache, MeshingError, MeshSettings, TetMesh
 
 log = logging.getLogger(__name__)
 
@@ -507,6 +507,8 @@ class BlockSolver:
         ------
         fem_check.loads.EquilibriumError
             If the load's imbalance exceeds ``rel_tol`` (checked before any solve).
+        fem_check.mesh.MeshingError
+            If gmsh cannot mesh the block (named by ``name``).
         """
         report = check_equilibrium(block, load, self.rel_tol, name)
         log.info(
@@ -518,7 +520,10 @@ class BlockSolver:
             np.linalg.norm(report.moment),
             report.rel_moment,
         )
-        bm = self.mesh(block)
+        try:
+            bm = self.mesh(block)
+        except MeshingError as exc:
+            raise MeshingError(f"{name}: {exc}") from exc
         op = self.operator(bm)
         t0 = time.perf_counter()
         f, shift = load_vector(op, to_reference(bm, load))

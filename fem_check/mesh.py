@@ -34,6 +34,19 @@ MATCH_REL_TOL = 1e-7
 """Tolerance of the rigid-motion shape match, relative to the block size."""
 
 
+class MeshingError(ValueError):
+    """gmsh could not build or mesh a block; the message names the block and the cause."""
+
+
+def shortest_edge(block: ConvexBlock) -> float:
+    """Length of the block's shortest edge [m]."""
+    v = block.vertices
+    return min(
+        float(np.min(np.linalg.norm(v[np.roll(face, -1)] - v[face], axis=1)))
+        for face in block.faces
+    )
+
+
 @dataclass(frozen=True, eq=False)
 class MeshSettings:
     """How a block is meshed.
@@ -136,7 +149,8 @@ def mesh_polyhedra(blocks: Sequence[ConvexBlock], settings: MeshSettings) -> Tet
         gmsh.option.setNumber("Mesh.ElementOrder", settings.order)
         gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)  # planar faces: straight edges
         gmsh.model.add(name)
-        volumes = [_occ_volume(gmsh, b) for b in blocks]
+        labels = [f"block {i}" if len(blocks) > 1 else "the block" for i in range(len(blocks))]
+        volumes = [_occ_volume(gmsh, b, label) for b, label in zip(blocks, labels, strict=True)]
         if len(volumes) > 1:
             _, out_map = gmsh.model.occ.fragment([(3, v) for v in volumes], [])
             pieces = [[tag for dim, tag in m if dim == 3] for m in out_map]
@@ -180,8 +194,27 @@ def mesh_polyhedra(blocks: Sequence[ConvexBlock], settings: MeshSettings) -> Tet
     return TetMesh(mesh, region_arr)
 
 
-def _occ_volume(gmsh, block: ConvexBlock) -> int:
-    """Build one convex block as an OpenCASCADE volume; returns its tag."""
+def _occ_volume(gmsh, block: ConvexBlock, label: str) -> int:
+    """Build one convex block as an OpenCASCADE volume; returns its tag.
+
+    Raises
+    ------
+    MeshingError
+        gmsh refused the block (it raises a bare ``Exception``), naming it by ``label`` with
+        its shortest edge: OpenCASCADE merges points closer than its tolerance (about
+        1e-7 m, absolute), so a sliver or a block thinner than that cannot be built.
+    """
+    try:
+        return _occ_faces_volume(gmsh, block)
+    except Exception as exc:  # gmsh raises Exception, nothing narrower
+        raise MeshingError(
+            f"gmsh could not build {label} ({exc}): its shortest edge "
+            f"{shortest_edge(block):.3g} m is at or below OpenCASCADE's tolerance of about "
+            "1e-7 m (absolute), which merges its corners; a sliver that thin cannot be meshed"
+        ) from exc
+
+
+def _occ_faces_volume(gmsh, block: ConvexBlock) -> int:
     occ = gmsh.model.occ
     pts = [occ.addPoint(*map(float, v)) for v in block.vertices]
     lines: dict[tuple[int, int], int] = {}

@@ -26,7 +26,20 @@ from dataclasses import asdict, dataclass
 import cvxpy as cp
 import numpy as np
 
-__all__ = ["Certificate", "conic_certificate", "yield_residual", "equilibrium_residual"]
+__all__ = [
+    "LOCAL_TOL",
+    "Certificate",
+    "conic_certificate",
+    "yield_residual",
+    "yield_violations",
+    "equilibrium_residual",
+    "local_residual",
+]
+
+LOCAL_TOL = 1e-3
+"""Largest accepted residual of a block or interface relative to its own blocks' loads [-]
+(:func:`local_residual`): a solution off by more than 0.1 % of a light block's load is
+refused, whatever the total weight."""
 
 
 @dataclass(frozen=True)
@@ -53,6 +66,10 @@ class Certificate:
         Sum of ``z_i . g_i(x)``, relative as the gap.
     dual_objective : float
         The dual bound of the scaled programme.
+    local_residual : float
+        Equilibrium and strength residuals relative to the loads of the blocks concerned
+        (:func:`local_residual`); not in :meth:`worst`, it has its own tolerance
+        (:data:`LOCAL_TOL`). ``nan`` where not computed.
     """
 
     primal_residual: float
@@ -63,6 +80,7 @@ class Certificate:
     duality_gap: float
     complementarity: float
     dual_objective: float
+    local_residual: float = float("nan")
 
     def worst(self) -> float:
         vals = [
@@ -241,19 +259,26 @@ def equilibrium_residual(a_eq, f, dead, live, lam, row_scale) -> float:
     return float(np.max(np.abs(r * row_scale), initial=0.0))
 
 
-def yield_residual(
+def yield_residual(model: str, forces: np.ndarray, mu, c_t, tensile, weight: float, **kw) -> float:
+    """Largest violation of the interface strength in SI (:func:`yield_violations`), divided
+    by ``W`` [-]."""
+    viol = yield_violations(model, forces, mu, c_t, tensile, **kw)
+    return float(np.max(viol, initial=0.0)) / weight
+
+
+def yield_violations(
     model: str,
     forces: np.ndarray,
     mu: np.ndarray,
     c_t: np.ndarray,
     tensile: np.ndarray,
-    weight: float,
     vertex_forces: np.ndarray | None = None,
     vertex_mu: np.ndarray | None = None,
     alpha: float | None = None,
     rocking: tuple | None = None,
-) -> float:
-    r"""Largest violation of the interface strength in SI, divided by ``W`` [-].
+) -> np.ndarray:
+    r"""Violation of the interface strength in SI [N], per corner (vertex model) or per
+    interface (resultant model); <= 0 where it holds.
 
     Vertex model: :math:`p_j \ge 0`, :math:`\|s_j\| \le \mu p_j`. Where ``mu`` is inf (no
     sliding) only the sign of the normal force is checked. Resultant model:
@@ -266,8 +291,7 @@ def yield_residual(
         p, s = vertex_forces[:, 0], vertex_forces[:, 1:]
         fin = np.isfinite(vertex_mu)
         slip = np.where(fin, np.linalg.norm(s, axis=1) - np.where(fin, vertex_mu, 0.0) * p, 0.0)
-        viol = np.maximum(-p, slip)
-        return float(np.max(viol, initial=0.0)) / weight
+        return np.maximum(-p, slip)
     n, v, m = forces[:, 0], forces[:, 1:3], forces[:, 3:]
     c = tensile - n
     vn = np.linalg.norm(v, axis=1)
@@ -285,4 +309,36 @@ def yield_residual(
         ge = g @ forces.ravel() - h * c[owner]
         ln = np.max(h)
         viol.append(np.bincount(owner, weights=np.maximum(ge, 0) / ln, minlength=len(c)))
-    return float(np.max(np.maximum.reduce(viol), initial=0.0)) / weight
+    return np.maximum.reduce(viol)
+
+
+def local_residual(
+    block_residual: np.ndarray,
+    interface_violation: np.ndarray,
+    block_a: np.ndarray,
+    block_b: np.ndarray,
+    block_load: np.ndarray,
+) -> float:
+    """Residuals relative to the loads of the blocks concerned, not to the total weight [-].
+
+    The certificate's residuals are relative to the total weight ``W``, so a block much
+    lighter than ``W`` (a chip of 1e-7 W) can be out of equilibrium or overload its joint by
+    a large part of its own weight unseen. Here each free block's equilibrium residual
+    (force rows, and moment rows divided by its size) is divided by its own load, and each
+    interface's strength violation by the load of the lighter of its two free blocks.
+
+    Parameters
+    ----------
+    block_residual : (n_blocks,) float
+        Largest equilibrium residual of each block [N] (0 for fixed blocks).
+    interface_violation : (m,) float
+        Largest strength violation of each interface [N].
+    block_a, block_b : (m,) int
+    block_load : (n_blocks,) float
+        Size of each block's own loads ``|F_D| + lambda |F_L|`` [N]; inf for fixed blocks
+        (never the lighter one) and 0 for unloaded blocks (not checked).
+    """
+    load = np.where(block_load > 0, block_load, np.inf)
+    worst = float(np.max(block_residual / load, initial=0.0))
+    lighter = np.minimum(load[block_a], load[block_b]) if len(block_a) else np.zeros(0)
+    return max(worst, float(np.max(interface_violation / lighter, initial=0.0)))

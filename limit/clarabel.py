@@ -22,10 +22,12 @@ import cvxpy as cp
 import numpy as np
 
 from limit.certificates import (
+    LOCAL_TOL,
     Certificate,
     conic_certificate,
     equilibrium_residual,
-    yield_residual,
+    local_residual,
+    yield_violations,
 )
 from limit.errors import (
     DeadLoadInfeasibleError,
@@ -171,9 +173,12 @@ def run_clarabel(
     problem: cp.Problem, settings: LimitSettings, attempt: Attempt = REFINED
 ) -> tuple[str, float]:
     """One Clarabel solve; return cvxpy's status (``"solver_error"`` when Clarabel raised)
-    and the solver time [s]."""
+    and the solver time [s]. cvxpy's own warning on an inaccurate status is silenced: the
+    status is returned, and :func:`solve_static` retries, refuses or warns once itself."""
     try:
-        problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **attempt.options(settings))
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="Solution may be inaccurate")
+            problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **attempt.options(settings))
     except cp.error.SolverError as exc:
         logger.info("Clarabel failed (%s attempt): %s", attempt.label, exc)
         return "solver_error", 0.0
@@ -228,7 +233,7 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
     solve_s = 0.0
     history: list[tuple[str, str]] = []
     attempts = attempts_for(sp_)
-    failure = ""
+    failure = rejected = ""
     for i, attempt in enumerate(attempts):
         last = i == len(attempts) - 1
         status, dt = run_clarabel(sp_.problem, settings, attempt)
@@ -247,7 +252,7 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
         result = _read_solution(sp_, status, certify or status != "optimal", t0, solve_s)
         result.attempts = history
         cert = result.certificate
-        if cert is None or cert.worst() <= settings.cert_tol:
+        if cert is None or _certified(cert, settings):
             if status == "optimal_inaccurate":
                 warnings.warn(
                     f"limit analysis: Clarabel ended optimal_inaccurate ({text}); the point "
@@ -256,15 +261,33 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
                     stacklevel=2,
                 )
             return result
-        failure = (
-            f"the solution failed its certificate (worst relative residual {cert.worst():.2e} > "
-            f"cert_tol {settings.cert_tol:.1e}): {cert.to_dict()}"
-        )
+        failure = _certificate_failure(cert, settings)
         logger.info("%s attempt rejected: %s", attempt.label, failure)
+        rejected = failure
     raise NumericalFailureError(
-        f"no certified optimum after {len(history)} Clarabel solves ({text}); last: {failure}. "
+        f"no certified optimum after {len(history)} Clarabel solves ({text}); last: {failure}"
+        + (f"; before it, {rejected}" if rejected and rejected != failure else "")
+        + ". "
         "Try a tighter LimitSettings.tol, more max_iter, or rescale the scene (units)."
     )
+
+
+def _certificate_failure(cert: Certificate, settings: LimitSettings) -> str:
+    """Why a certificate failed, in words."""
+    if cert.worst() > settings.cert_tol:
+        why = f"worst relative residual {cert.worst():.2e} > cert_tol {settings.cert_tol:.1e}"
+    else:
+        why = (
+            f"residual relative to the loads of its own blocks {cert.local_residual:.2e} > "
+            f"LOCAL_TOL {LOCAL_TOL:.0e}: a block much lighter than the whole is not resolved"
+        )
+    return f"the solution failed its certificate ({why}): {cert.to_dict()}"
+
+
+def _certified(cert: Certificate, settings: LimitSettings) -> bool:
+    """Every residual within ``cert_tol`` of the total weight, and within :data:`LOCAL_TOL`
+    of the loads of the blocks concerned."""
+    return cert.worst() <= settings.cert_tol and not cert.local_residual > LOCAL_TOL
 
 
 def _read_solution(
@@ -318,40 +341,12 @@ def _read_solution(
 
 def static_certificate(sp_: StaticProblem, f, vertex_forces, lam) -> Certificate:
     """Certificate of a solved static programme: the conic residuals of
-    :func:`conic_certificate`, the equilibrium and the interface strength recomputed in SI."""
+    :func:`conic_certificate`, the equilibrium and the interface strength recomputed in SI,
+    both also relative to the loads of the blocks concerned (:func:`local_residual`)."""
     conic = conic_certificate(sp_.problem)
     eq = equilibrium_residual(sp_.a_eq, f.ravel(), sp_.dead, sp_.live, lam, sp_.row_scale)
-    if sp_.friction == "coulomb" and sp_.settings.friction_polygon is None:
-        # the Parameter holds 0 where mu = inf (no cone): the residual must see inf there
-        mu_set = sp_.mu_interface[sp_.vertex_iface] if sp_.model == "vertex" else sp_.mu_interface
-        mu_now = np.where(np.isfinite(mu_set), np.asarray(sp_.mu.value, float), np.inf)
-        tensile = sp_.settings.tensile_strength * sp_.interfaces.area
-        if sp_.model == "vertex":
-            yres = yield_residual(
-                "vertex",
-                f.reshape(-1, 6),
-                None,
-                None,
-                tensile,
-                sp_.weight,
-                vertex_forces=vertex_forces,
-                vertex_mu=mu_now,
-            )
-        else:
-            alpha = sp_.settings.torsion_alpha if sp_.settings.torsion == "interaction" else None
-            g, h, owner = rocking_constraints(sp_.interfaces)
-            yres = yield_residual(
-                "resultant",
-                f.reshape(-1, 6),
-                mu_now,
-                sp_.c_t,
-                tensile,
-                sp_.weight,
-                alpha=alpha,
-                rocking=(g, h, owner),
-            )
-    else:
-        yres = float("nan")
+    viol = _interface_violations(sp_, f, vertex_forces)
+    yres = float("nan") if viol is None else float(np.max(viol, initial=0.0)) / sp_.weight
     return Certificate(
         primal_residual=conic["primal_residual"],
         equilibrium_residual=eq,
@@ -361,4 +356,54 @@ def static_certificate(sp_: StaticProblem, f, vertex_forces, lam) -> Certificate
         duality_gap=conic["duality_gap"],
         complementarity=conic["complementarity"],
         dual_objective=conic["dual_objective"] * sp_.lam_scale,
+        local_residual=_local_residual(sp_, f, lam, viol),
     )
+
+
+def _interface_violations(sp_: StaticProblem, f, vertex_forces) -> np.ndarray | None:
+    """Strength violation of each interface [N] (:func:`yield_violations`); None for the
+    fixed-capacity programme and inscribed polygons (not the Coulomb cone)."""
+    if sp_.friction != "coulomb" or sp_.settings.friction_polygon is not None:
+        return None
+    # the Parameter holds 0 where mu = inf (no cone): the residual must see inf there
+    mu_set = sp_.mu_interface[sp_.vertex_iface] if sp_.model == "vertex" else sp_.mu_interface
+    mu_now = np.where(np.isfinite(mu_set), np.asarray(sp_.mu.value, float), np.inf)
+    tensile = sp_.settings.tensile_strength * sp_.interfaces.area
+    if sp_.model == "vertex":
+        corner = yield_violations(
+            "vertex", f.reshape(-1, 6), None, None, tensile,
+            vertex_forces=vertex_forces, vertex_mu=mu_now,
+        )  # fmt: skip
+        viol = np.full(sp_.interfaces.n_interfaces, -np.inf)
+        np.maximum.at(viol, sp_.vertex_iface, corner)
+        return viol
+    alpha = sp_.settings.torsion_alpha if sp_.settings.torsion == "interaction" else None
+    return yield_violations(
+        "resultant", f.reshape(-1, 6), mu_now, sp_.c_t, tensile,
+        alpha=alpha, rocking=rocking_constraints(sp_.interfaces),
+    )  # fmt: skip
+
+
+def _local_residual(sp_: StaticProblem, f, lam: float, viol: np.ndarray | None) -> float:
+    """:func:`local_residual` of the solution: per-block equilibrium residuals (moments
+    divided by the block size) and interface violations against each block's own loads
+    ``|F_D| + lambda |F_L|`` [N]."""
+    n = sp_.scene.n_blocks
+    rows = np.flatnonzero(sp_.free)
+    owner, dof = rows // 6, rows % 6
+    sizes = np.array([b.size for b in sp_.scene.assembly.blocks])
+    r = np.abs(sp_.a_eq @ f.ravel() + sp_.dead + lam * sp_.live)
+    r = np.where(dof < 3, r, r / sizes[owner])
+    block_res = np.zeros(n)
+    np.maximum.at(block_res, owner, r)
+    dead = sp_.scene.dead_wrench.reshape(-1, 6)[:, :3]
+    live = sp_.scene.loads.live_wrench.reshape(-1, 6)[:, :3]
+    # without any dead load (the dead-load check, whose live pattern is the dead load) the
+    # loads vanish with lambda (a structure that falls): lambda is then taken no smaller
+    # than its unit
+    scale = abs(lam) if np.any(sp_.dead) else max(abs(lam), sp_.lam_scale)
+    load = np.linalg.norm(dead, axis=1) + scale * np.linalg.norm(live, axis=1)
+    load = np.where(sp_.scene.supports.fixed, np.inf, load)
+    itf = sp_.interfaces
+    violation = np.zeros(itf.n_interfaces) if viol is None else viol
+    return local_residual(block_res, violation, itf.block_a, itf.block_b, load)

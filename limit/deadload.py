@@ -80,7 +80,9 @@ class StandsResult:
 
 def unsupported_blocks(scene: Scene) -> tuple[np.ndarray, str]:
     """Loaded free blocks that nothing can hold: all of them when the scene has no support,
-    else those that touch no other block. Returns ``(blocks, reason)`` (empty when none)."""
+    else those that share no face (interface) with another block: edge and corner
+    contacts carry nothing in the interface model. Returns ``(blocks, reason)`` (empty when
+    none)."""
     sup = scene.supports
     free = sup.free_dofs
     loaded = (np.abs(scene.dead_wrench) * free).any(axis=1)
@@ -96,8 +98,9 @@ def unsupported_blocks(scene: Scene) -> tuple[np.ndarray, str]:
     lonely = np.flatnonzero(~touched & loaded)
     if lonely.size:
         return lonely, (
-            f"blocks {lonely[:10].tolist()} touch no other block and are loaded on a free dof: "
-            "they fall down by themselves (missing support)."
+            f"blocks {lonely[:10].tolist()} touch no other block on a face and are loaded on a "
+            "free dof: they fall down by themselves (missing support; an interface is a pair "
+            "of coplanar faces, so a contact on an edge or a corner only carries nothing)."
         )
     return lonely, ""
 
@@ -134,7 +137,9 @@ def _involved(scene: Scene, vel: np.ndarray) -> tuple[tuple[int, ...], tuple[int
     return _ranked(speed), _ranked(rel)
 
 
-def stands(scene: Scene, settings: LimitSettings | None = None) -> StandsResult:
+def stands(
+    scene: Scene, settings: LimitSettings | None = None, mu: np.ndarray | None = None
+) -> StandsResult:
     """Check that a scene stands under its dead load (no live load is needed or used).
 
     Parameters
@@ -142,6 +147,9 @@ def stands(scene: Scene, settings: LimitSettings | None = None) -> StandsResult:
     scene : Scene
     settings : LimitSettings, optional
         Interface model and strengths, as for :func:`limit.limit_analysis`.
+    mu : (n_interfaces,) float, optional
+        Friction coefficient of each interface [-] in place of the scene's and
+        ``settings.mu`` (the reduced friction of :func:`limit.bounds_and_estimates`).
 
     Returns
     -------
@@ -167,6 +175,8 @@ def stands(scene: Scene, settings: LimitSettings | None = None) -> StandsResult:
             True, 1.0, None, reason="no dead load on any free dof", wall_s=time.perf_counter() - t0
         )
     sp_ = build_static_problem(_dead_load_scene(scene), settings)
+    if mu is not None:
+        sp_.set_friction(np.asarray(mu, dtype=float))
     # lambda = lam_scale * lam: cap the multiplier of the dead load at one
     cap = sp_.lam <= 1.0 / sp_.lam_scale
     sp_.problem = cp.Problem(sp_.problem.objective, [*sp_.problem.constraints, cap])

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dem.scene import Scene
-from limit.deadload import require_standing
+from limit.deadload import require_standing, stands
 from limit.errors import (
     DeadLoadInfeasibleError,
     InconsistentBoundsError,
@@ -274,7 +274,8 @@ def frictionless_lower_bound(
         other than the trivial statement that nothing is proven).
     note : str
     """
-    settings = (settings or LimitSettings()).with_(mu=0.0)
+    # the dead-load check of the caller concerns mu, not the frictionless structure
+    settings = (settings or LimitSettings()).with_(mu=0.0, dead_load_check=True)
     try:
         res = limit_analysis(scene, settings)
     except NoMechanismError:
@@ -284,6 +285,40 @@ def frictionless_lower_bound(
     # round-off of a zero bound (interior-point solvers stop just inside the cone)
     lam = res.lam if res.lam > settings.tol * 10 else 0.0
     return lam, "frictionless (Radenkovic) lower bound"
+
+
+def _reduced_estimate(
+    scene: Scene, settings: LimitSettings, sp_: StaticProblem
+) -> tuple[float | None, str]:
+    """Estimate (a) on the compiled associated programme ``sp_`` (its friction is restored).
+
+    The associated problem with ``mu*`` has a collapse multiplier only if the structure
+    stands with ``mu*``: otherwise its admissible multipliers, if any, form an interval that
+    does not contain 0 (the live load props it) and the largest one is no estimate. That is
+    checked with :func:`limit.stands` at ``mu*`` (one more solve of the same size), whatever
+    ``settings.dead_load_check`` says (it concerns the friction ``mu``).
+
+    Returns
+    -------
+    lam : float or None
+        The estimate [-], None when there is none.
+    note : str
+    """
+    mu = sp_.mu_interface
+    mu_star = _reduced(mu)  # inf stays inf: no cone
+    sp_.set_friction(mu_star)
+    try:
+        lam = solve_static(sp_).lam
+        check = stands(scene, settings, mu=mu_star)
+    except LimitAnalysisError as exc:
+        logger.info("reduced-friction estimate failed: %s", exc)
+        return None, f"no estimate (a): {exc}"
+    finally:
+        sp_.set_friction(mu)
+    if not check.stands:
+        why = f"with mu* the structure cannot carry its dead load ({check.reason})"
+        return None, f"{why}: no estimate (a)"
+    return lam, "associated multiplier with mu* = mu / sqrt(1 + mu^2) per interface"
 
 
 @dataclass
@@ -306,6 +341,12 @@ class Bounds:
         The associated solution (forces and mechanism).
     wall_s : dict
         Wall time of each part [s].
+    reduced_note : str
+        Why estimate (a) is None, or what it is.
+    lam_unit : float
+        The multiplier at which the live load's force equals the dead weight (``W / |F_L|``,
+        the programme's scale of lambda) [unit of lambda]; the absolute allowance of
+        :meth:`ordering_issues` is relative to it.
     issues : list of str
         Violations of the theorems' ordering (:meth:`ordering_issues`); empty when consistent.
     """
@@ -319,6 +360,8 @@ class Bounds:
     associated: LimitResult
     wall_s: dict = field(default_factory=dict)
     issues: list = field(default_factory=list)
+    reduced_note: str = ""
+    lam_unit: float = 1.0
 
     @property
     def consistent(self) -> bool:
@@ -335,7 +378,7 @@ class Bounds:
         """
 
         def above(a, b):
-            return a is not None and b is not None and a > b * (1 + rtol) + rtol
+            return a is not None and b is not None and a > b * (1 + rtol) + rtol * self.lam_unit
 
         it = self.iterative
         named = {
@@ -363,6 +406,7 @@ class Bounds:
             "model": self.model,
             "upper": self.upper,
             "reduced_mu": self.reduced_mu,
+            "reduced_note": self.reduced_note,
             "iterative": None if it is None else it.lam,
             "iterative_history": None if it is None else it.history,
             "iterative_converged": None if it is None else it.converged,
@@ -418,15 +462,7 @@ def bounds_and_estimates(
     require_standing(scene, settings)
     times["upper"] = time.perf_counter() - t
     t = time.perf_counter()
-    mu = sp_.mu_interface
-    mu_star = _finite(_reduced(mu))  # no cone where mu = inf
-    reduced = None
-    sp_.mu.value = mu_star[sp_.vertex_iface] if sp_.model == "vertex" else mu_star
-    try:
-        reduced = solve_static(sp_).lam
-    except LimitAnalysisError as exc:
-        logger.info("reduced-friction estimate failed: %s", exc)
-    sp_.mu.value = _finite(mu)[sp_.vertex_iface] if sp_.model == "vertex" else _finite(mu)
+    reduced, reduced_note = _reduced_estimate(scene, settings, sp_)
     times["reduced_mu"] = time.perf_counter() - t
     it = None
     if iterate:
@@ -445,6 +481,8 @@ def bounds_and_estimates(
         lower=lo,
         lower_note=note,
         associated=upper,
+        reduced_note=reduced_note,
+        lam_unit=sp_.lam_scale,
         wall_s=times,
     )
     bounds.issues = bounds.ordering_issues()

@@ -293,6 +293,13 @@ class StaticProblem:
         """(m, 6) ``(N, V1, V2, M1, M2, M3)`` [N, N m] at the solution."""
         return (self.f_map @ self.x_value() + self.f_offset).reshape(-1, 6)
 
+    def set_friction(self, mu_interface: np.ndarray) -> None:
+        """Set the friction coefficient of every interface [-] without re-compiling (one
+        value per cone: per corner in the vertex model). ``inf`` (and the interfaces built
+        with ``mu = inf``) keep no cone: the Parameter holds 0 there."""
+        mu = np.where(np.isfinite(mu_interface) & np.isfinite(self.mu_interface), mu_interface, 0.0)
+        self.mu.value = mu[self.vertex_iface] if self.model == "vertex" else mu
+
 
 def _scales(scene: Scene, free: np.ndarray, interfaces) -> tuple[float, float, np.ndarray]:
     dead = scene.dead_wrench.reshape(-1, 6)

@@ -70,6 +70,12 @@ def _check(build: Callable[[float], Scene], t: float, settings: LimitSettings) -
         raise NumericalFailureError(f"dead-load check at parameter {t:.6g}: {exc}") from exc
 
 
+def _narrow(a: float, b: float, rtol: float) -> bool:
+    """The bracket ``[a, b]`` is narrower than ``rtol`` times its midpoint (or ``rtol`` near
+    zero)."""
+    return abs(b - a) <= rtol * max(abs(0.5 * (a + b)), rtol)
+
+
 def geometric_safety_factor(
     build: Callable[[float], Scene],
     lo: float,
@@ -100,7 +106,8 @@ def geometric_safety_factor(
     Raises
     ------
     ValueError
-        A bad bracket, or a scene that stands (or falls) at both ends.
+        A bad bracket, a scene that stands (or falls) at both ends, or a bracket still wider
+        than ``rtol`` after ``max_steps`` steps.
     NumericalFailureError
         A dead-load check without a certified answer (the parameter value is named).
     """
@@ -130,15 +137,21 @@ def geometric_safety_factor(
         )
     )
     for _ in range(max_steps):
-        mid = 0.5 * (t_fall + t_stand)
-        if abs(t_stand - t_fall) <= rtol * max(abs(mid), rtol):
+        if _narrow(t_fall, t_stand, rtol):
             break
+        mid = 0.5 * (t_fall + t_stand)
         check = _check(build, mid, settings)
         history.append((mid, check.stands))
         if check.stands:
             t_stand, stand = mid, check
         else:
             t_fall, fall = mid, check
+    if not _narrow(t_fall, t_stand, rtol):
+        raise ValueError(
+            f"max_steps = {max_steps} bisection steps narrowed the bracket only to "
+            f"[{min(t_fall, t_stand):.6g}, {max(t_fall, t_stand):.6g}], wider than rtol = "
+            f"{rtol:g} times the critical value: raise max_steps or rtol"
+        )
     critical = 0.5 * (t_fall + t_stand)
     factor = None
     if actual is not None:

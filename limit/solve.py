@@ -67,7 +67,7 @@ def check_scene(scene: Scene) -> None:
     Raises
     ------
     DeadLoadInfeasibleError
-        No support at all, or loaded blocks that touch no other block (named).
+        No support at all, or loaded blocks that touch no other block on a face (named).
     NoMechanismError
         The live load does no work on any free dof.
     """
@@ -139,7 +139,10 @@ def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> t
     DeadLoadInfeasibleError, NoMechanismError
         With the structural message of the static programme: the kinematic programme is
         unbounded below when the structure falls by itself and infeasible when no mechanism
-        exists (no blocks are named here: use :func:`limit.stands`).
+        exists (no blocks are named here: use :func:`limit.stands`). Also, as for
+        :func:`limit_analysis`, when the dead load alone is not carried but some live load
+        props the structure (``settings.dead_load_check``): the kinematic optimum is then the
+        top of the propped interval, no collapse multiplier.
     NumericalFailureError
         Still inaccurate after a solve with tighter tolerances.
     """
@@ -154,6 +157,7 @@ def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> t
         raise err
     if status != "optimal":
         raise NumericalFailureError(f"no certified optimum: kinematic status {status!r}")
+    require_standing(scene, settings)
     u = np.asarray(kp.velocity.value, float) * kp.row_scale
     live = scene.loads.live_wrench.ravel()[kp.free]
     u = u / float(live @ u)

@@ -4,8 +4,10 @@ Each free block is loaded by the interface resultants of the static DEM at ``lam
 (spread as the least traction with the same wrench over each interface polygon), its weight,
 and the extra dead and ``lambda`` times live forces at its centroid (as uniform body forces).
 Before solving, the imbalance of these loads is the block's equilibrium residual: a DEM state
-in equilibrium makes it (nearly) zero. The stresses of a statically determinate free block do
-not depend on Young's modulus, so ``young`` is a placeholder.
+in equilibrium makes it (nearly) zero. A block that gmsh cannot mesh (a sliver below its
+tolerance) is listed in ``not_meshed`` with the reason, and fails the verdict. The stresses of
+a statically determinate free block do not depend on Young's modulus, so ``young`` is a
+placeholder.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from fem_check.loads import (
     InterfaceResultants,
     interface_block_loads,
 )
-from fem_check.mesh import MeshSettings
+from fem_check.mesh import MeshingError, MeshSettings
 from fem_check.recovery import recover_nodal_stress, summarise
 from fem_check.stress_output import stress_field
 from validation.crosscheck.steps import Context, StepResult
@@ -128,6 +130,9 @@ class FemCheck:
             except EquilibriumError:
                 rows.append(row)  # out of equilibrium: reported, not solved
                 continue
+            except MeshingError as exc:
+                rows.append({**row, "not_meshed": str(exc)})  # reported; the others go on
+                continue
             nodal = recover_nodal_stress(sol)
             s = summarise(sol, nodal)
             row.update(
@@ -140,7 +145,11 @@ class FemCheck:
             ids.append(int(i))
         values = _summary(rows, skipped, self.rel_tol)
         field = stress_field([s for s, _ in sols], ids, [n for _, n in sols]) if sols else None
-        reason = f"blocks {skipped} carry concentrated moments: not solved" if skipped else ""
+        reasons = [f"blocks {skipped} carry concentrated moments: not solved"] if skipped else []
+        unmeshed = [r["not_meshed"] for r in rows if "not_meshed" in r]
+        if unmeshed:
+            reasons.append(f"blocks {values['not_meshed']} not meshed ({unmeshed[0]})")
+        reason = "; ".join(reasons)
         return StepResult(self.name, self.method, "ok", reason, 0.0, settings, values, field)
 
 
@@ -156,7 +165,10 @@ def _summary(rows: list[dict], skipped: list[int], rel_tol: float) -> dict:
         "max_compression_Pa": None if worst_c is None else worst_c["min_principal"],
         "max_compression_block": None if worst_c is None else worst_c["block"],
         "n_solved": len(solved),
-        "not_in_equilibrium": [r["block"] for r in rows if "max_principal" not in r],
+        "not_in_equilibrium": [
+            r["block"] for r in rows if "max_principal" not in r and "not_meshed" not in r
+        ],
+        "not_meshed": [r["block"] for r in rows if "not_meshed" in r],
         "skipped_blocks": skipped,
         "blocks": rows,
     }

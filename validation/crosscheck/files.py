@@ -30,6 +30,9 @@ MULTIPLIERS = (
     ("explicit", "lambda_moving", "explicit DEM, first moving lambda"),
 )
 
+WHY_NONE = {"lower": "lower_note", "reduced_mu": "reduced_note"}
+"""The value that says why a bound or an estimate is missing."""
+
 
 def write_report(scene: Scene, ctx: Context, result, out: Path, pictures: bool) -> dict:
     """Write every file of a cross-check into ``out`` and return their paths by key."""
@@ -68,8 +71,8 @@ def _multipliers(result) -> list[list]:
         if step is None or not step.ok or key not in step.values:
             continue
         note = step.values.get("termination", "")
-        if key == "lower" and step.values[key] is None:
-            note = step.values.get("lower_note", "")
+        if key in WHY_NONE and step.values[key] is None:
+            note = step.values.get(WHY_NONE[key], "")
         if key == "iterative" and step.values.get("iterative") is not None:
             note = (
                 f"converged {step.values['iterative_converged']}, "

@@ -89,6 +89,8 @@ class LimitBounds:
         values = {
             "upper": b.upper,
             "reduced_mu": finite_or_none(b.reduced_mu),
+            "reduced_note": b.reduced_note,
+            "lam_unit": b.lam_unit,
             "iterative": None if it is None else it.lam,
             "iterative_converged": None if it is None else it.converged,
             "iterative_admissible": None if it is None else it.admissible,

@@ -59,9 +59,16 @@ def _tagged(checks: list[Check], step: str) -> list[Check]:
     return [replace(c, step=step) for c in checks]
 
 
-def _le(a: float, b: float, rtol: float) -> bool:
-    """``a <= b`` up to ``rtol`` relative to ``|b|`` (and ``rtol`` absolute near zero)."""
-    return a <= b + rtol * max(abs(b), 1.0) if math.isfinite(b) else True
+def _le(a: float, b: float, rtol: float, unit: float = 1.0) -> bool:
+    """``a <= b`` up to ``rtol`` relative to ``|b|`` (and ``rtol * unit`` near zero, with
+    ``unit`` the limit programme's scale of lambda: the multiplier at which the live load
+    equals the weight)."""
+    return a <= b + rtol * max(abs(b), unit) if math.isfinite(b) else True
+
+
+def _unit(lim) -> float:
+    """The scale of lambda of a limit step (1 when it has none)."""
+    return 1.0 if lim is None else float(lim.values.get("lam_unit", 1.0))
 
 
 def dead_load_checks(ctx: Context) -> list[Check]:
@@ -111,22 +118,23 @@ def _model_checks(ctx: Context, model: str, rtol: float) -> list[Check]:
             "against rigid supports)"
         )
         return [Check(f"finite upper bound ({model})", NA, detail=detail)]
-    upper, lower = v["upper"], v["lower"]
+    upper, lower, unit = v["upper"], v["lower"], _unit(res)
     out = []
     if lower is None:
         out.append(Check(f"lower <= upper ({model})", NA, None, upper, v["lower_note"]))
     else:
-        ok = _le(lower, upper, rtol)
+        ok = _le(lower, upper, rtol, unit)
         out.append(Check(f"lower <= upper ({model})", PASS if ok else FAIL, lower, upper))
     for label, key in (("estimate mu*", "reduced_mu"), ("estimate (b)", "iterative")):
         name, est = f"{label} within bounds ({model})", v[key]
         if est is None:
-            out.append(Check(name, NA, detail="not computed"))
+            why = v.get("reduced_note") if key == "reduced_mu" else None
+            out.append(Check(name, NA, detail=why or "not computed"))
         elif key == "iterative" and not v["iterative_admissible"]:
             detail = "last iterate not admissible: not bounded by the upper bound"
             out.append(Check(name, NA, est, upper, detail))
         else:
-            ok = _le(est, upper, rtol) and (lower is None or _le(lower, est, rtol))
+            ok = _le(est, upper, rtol, unit) and (lower is None or _le(lower, est, rtol, unit))
             detail = f"lower {lower:.6g}" if lower is not None else "no lower bound"
             out.append(Check(name, PASS if ok else FAIL, est, upper, detail))
     return out
@@ -157,12 +165,12 @@ def _law_checks(ctx: Context, law: str, rtol: float) -> list[Check]:
     out = [Check(name, PASS if v["collapsed"] else FAIL, lam, None, detail)]
     if upper is None:
         return out
-    ok = _le(lam, upper, rtol)
+    ok = _le(lam, upper, rtol, _unit(lim))
     ratio = f"lambda_DEM / upper = {lam / upper:.4f}" if upper else ""
     out.append(Check(f"DEM {law} <= upper ({model})", PASS if ok else FAIL, lam, upper, ratio))
     lower = lim.values["lower"]
     if lower is not None:
-        ok = _le(lower, lam, rtol)
+        ok = _le(lower, lam, rtol, _unit(lim))
         out.append(Check(f"lower ({model}) <= DEM {law}", PASS if ok else FAIL, lam, lower))
     return out
 
@@ -227,7 +235,7 @@ def explicit_checks(ctx: Context, rtol: float, agree_rtol: float) -> list[Check]
     out = [Check("explicit run collapsed", PASS if v["collapsed"] else FAIL, moving, None, bracket)]
     if lim is not None and math.isfinite(lim.values["upper"]):
         upper = lim.values["upper"]
-        ok = _le(stable, upper, rtol)
+        ok = _le(stable, upper, rtol, _unit(lim))
         out.append(
             Check(
                 "explicit lambda_stable <= upper (vertex)",
@@ -271,7 +279,7 @@ def fem_checks(ctx: Context) -> list[Check]:
     detail = f"state {fem.settings['state']}, {v['n_solved']} blocks solved"
     if v["not_in_equilibrium"]:
         detail += f"; blocks out of equilibrium: {v['not_in_equilibrium']}"
-    return [
+    out = [
         Check(
             "FEM residual small (DEM state in equilibrium)",
             PASS if ok else FAIL,
@@ -280,6 +288,9 @@ def fem_checks(ctx: Context) -> list[Check]:
             detail,
         )
     ]
+    if v.get("not_meshed"):
+        out.append(Check("FEM meshed every free block", FAIL, detail=fem.reason))
+    return out
 
 
 def verdict(ctx: Context, rtol: float = 1e-3, agree_rtol: float = 0.05) -> list[Check]:
