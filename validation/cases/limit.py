@@ -136,7 +136,7 @@ def _bounds_rows(
             source,
             b.wall_s["reduced_mu"],
             {**settings.to_dict(), "mu_star": "mu / sqrt(1 + mu^2) per interface"},
-            {**extra, "kind": "estimate (a), not a bound"},
+            {**extra, "kind": "estimate (a), not a bound", "note": b.reduced_note},
         ),
     ]
     if b.iterative is not None:
