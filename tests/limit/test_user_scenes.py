@@ -188,11 +188,10 @@ def test_a_tetrahedron_tips_about_a_base_edge(model, angle_deg):
     assert lam == pytest.approx(expected, rel=1e-6)
 
 
-def test_an_estimate_above_the_upper_bound_is_caught_whatever_the_load_unit(monkeypatch):
-    """The ordering check had an absolute allowance of 1e-6 in lambda: with the live load
-    given as a 1e10 N push (upper bound 0.6 W / 1e10 = 2.4e-7), an estimate (b) three times
-    the upper bound passed. The allowance is now relative to the multiplier at which the
-    live load equals the weight."""
+@pytest.fixture
+def tripled_estimate_on_a_huge_push(monkeypatch) -> Scene:
+    """A 1 x 1 x 0.2 m block pushed by a live load of 1e10 N (upper bound 0.6 W / 1e10), with
+    estimate (b) made three times its true value."""
     import limit.estimates as est
 
     real = est.iterative_estimate
@@ -207,7 +206,17 @@ def test_an_estimate_above_the_upper_bound_is_caught_whatever_the_load_unit(monk
     scene = Scene.from_convex_blocks([GROUND, blk], 2000.0, fixed=[0], mu=0.6)
     live = np.zeros((2, 6))
     live[1, 0] = 1e10
-    scene = scene.with_loads(live=live)
+    return scene.with_loads(live=live)
+
+
+def test_an_estimate_above_the_upper_bound_is_caught_whatever_the_load_unit(
+    tripled_estimate_on_a_huge_push,
+):
+    """The ordering check had an absolute allowance of 1e-6 in lambda: with the live load
+    given as a 1e10 N push (upper bound 0.6 W / 1e10 = 2.4e-7), an estimate (b) three times
+    the upper bound passed. The allowance is now relative to the multiplier at which the
+    live load equals the weight."""
+    scene = tripled_estimate_on_a_huge_push
     weight = scene.assembly.mass[1] * 9.81
     b = limit.bounds_and_estimates(scene, strict=False)
     assert b.upper == pytest.approx(0.6 * weight / 1e10, rel=1e-6)
@@ -216,26 +225,13 @@ def test_an_estimate_above_the_upper_bound_is_caught_whatever_the_load_unit(monk
 
 
 def test_the_crosscheck_verdict_catches_an_estimate_above_the_bound_in_any_load_unit(
-    monkeypatch, tmp_path
+    tripled_estimate_on_a_huge_push, tmp_path
 ):
     """The verdict allowed an absolute 1e-3 in lambda: with a 1e10 N live push (upper bound
     2.4e-7) an estimate (b) three times the upper bound was a 'pass'."""
-    import limit.estimates as est
     from validation.crosscheck import CrosscheckSettings, crosscheck
 
-    real = est.iterative_estimate
-
-    def wrong(*args, **kw):
-        it = real(*args, **kw)
-        it.lam = 3.0 * kw["start"].lam
-        return it
-
-    monkeypatch.setattr(est, "iterative_estimate", wrong)
-    blk = box((-0.5, -0.5, 0.0), (0.5, 0.5, 0.2))
-    scene = Scene.from_convex_blocks([GROUND, blk], 2000.0, fixed=[0], mu=0.6)
-    live = np.zeros((2, 6))
-    live[1, 0] = 1e10
-    scene = scene.with_loads(live=live)
+    scene = tripled_estimate_on_a_huge_push
     result = crosscheck(scene, CrosscheckSettings.quick(methods=("limit",)), tmp_path)
     check = next(c for c in result.checks if c.name == "estimate (b) within bounds (vertex)")
     assert check.status == "fail"
