@@ -87,8 +87,13 @@ def joint_arrays(scene: Scene, settings: StaticSettings) -> JointArrays:
         kn=settings.kn,
         kt=settings.kt,
         kr=settings.kn if settings.kr is None else settings.kr,
-        extent=float(np.ptp(scene.assembly.arrays.vertices, axis=0).max()),
+        extent=model_extent(scene),
     )
+
+
+def model_extent(scene: Scene) -> float:
+    """Largest side of the scene's bounding box [m]."""
+    return float(np.ptp(scene.assembly.arrays.vertices, axis=0).max())
 
 
 def check_supported(scene: Scene) -> None:
@@ -167,8 +172,7 @@ class Model:
         if live_size == 0:
             # a live load of moments only (torques): each moment counts as a force at the
             # model's extent, so that c = w . u is still a length
-            extent = float(np.ptp(scene.assembly.arrays.vertices, axis=0).max())
-            live_size = np.abs(self.F_live[~is_force]).sum() / extent
+            live_size = np.abs(self.F_live[~is_force]).sum() / model_extent(scene)
         if live_size == 0:
             raise ValueError("the live load is zero on every free dof: nothing to scale")
         dead_force = np.abs(self.F_dead[is_force]).sum()
