@@ -13,21 +13,14 @@ from __future__ import annotations
 import logging
 import time
 
-import numpy as np
-
 from dem.scene import Scene, proportional_to_weight
-
-
-def _box(lo, hi) -> np.ndarray:
-    return np.array(
-        [(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
-    )
+from dem.scenes.running_bond_wall import box_corners
 
 
 def _block_on_ground() -> Scene:
     """A 0.1 x 0.1 x 0.2 m block on a fixed base, pushed along x by its weight."""
-    ground = _box((-0.3, -0.3, -0.1), (0.3, 0.3, 0.0))
-    block = _box((-0.05, -0.05, 0.0), (0.05, 0.05, 0.2))
+    ground = box_corners(-0.3, 0.3, -0.3, 0.3, -0.1, 0.0)
+    block = box_corners(-0.05, 0.05, -0.05, 0.05, 0.0, 0.2)
     scene = Scene.from_convex_blocks([block, ground], 2000.0, fixed=[1], mu=0.6)
     return scene.with_loads(live=proportional_to_weight(scene.assembly, (1.0, 0.0, 0.0)))
 
