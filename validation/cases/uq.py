@@ -385,7 +385,7 @@ def run_gaps_uq(quick: bool):
         "nodes of both sides act with weight 1/2 (dem.contact_nodes). g in units of 0.001 of "
         f"the block side ({side_mm:.2f} mm): seed 000's footnote 4 takes 0.001 as its example. "
         f"Relaxation: at least {GAPS_RELAX_STEPS} steps, until the blocks move slower than 0.1 "
-        "mm/s (loose blocks rattle for long below that). Runs stop once P has fallen to 85 % "
+        "mm/s. Runs stop once P has fallen to 85 % "
         "of its peak. Reference: the calibrated model (k_imp, no gaps) of the same "
         "discretisation. " + _discretisation_note(base["disc"], quick) + _settling_note(recs)
     )
@@ -393,14 +393,17 @@ def run_gaps_uq(quick: bool):
 
 
 def _settling_note(recs: list[dict]) -> str:
-    """How many runs started indenting with a free block out of balance by more than 1 % of
-    the load it carries (ratio 1: it touched nothing, still falling)."""
+    """How many runs started indenting with a free block out of balance by more than the
+    relaxation's default ``unbalanced_tol`` of the load it carries (ratio 1: it touched
+    nothing, still falling)."""
     ratios = np.array([r["result"]["relax_unbalanced_ratio"] for r in recs if r["status"] == "ok"])
-    loose = ratios > 0.01
+    tol = RelaxationSettings().unbalanced_tol
+    loose = ratios > tol
     return (
         f" At the start of indentation {loose.sum()} of {ratios.size} runs had a free block out "
-        f"of balance by more than 1 % of its load (largest ratio {ratios.max():.3g}; 1 = a "
-        "block touching nothing, still settling, which the indenter then pushes into contact); "
+        f"of balance by more than {100 * tol:g} % of its load (largest ratio "
+        f"{ratios.max():.3g}; 1 = a block touching nothing, still settling, which the indenter "
+        "then pushes into contact); "
         f"in the others at most {ratios[~loose].max(initial=0.0):.3g}."
     )
 
