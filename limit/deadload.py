@@ -27,9 +27,9 @@ import numpy as np
 from dem.scene import Loads, Scene
 from limit.certificates import Certificate
 from limit.clarabel import solve_static
-from limit.errors import DeadLoadInfeasibleError, NumericalFailureError
+from limit.errors import DeadLoadInfeasibleError, LimitAnalysisError, NumericalFailureError
 from limit.matrices import equilibrium_matrix
-from limit.problems import LimitSettings, build_static_problem
+from limit.problems import LimitSettings, StaticProblem, build_static_problem
 
 __all__ = ["StandsResult", "stands", "unsupported_blocks", "dead_load_error", "INVOLVED"]
 
@@ -113,6 +113,47 @@ def _dead_load_scene(scene: Scene) -> Scene:
     return Scene(scene.assembly, scene.supports, loads, scene.name, scene.meta)
 
 
+def _dead_load_programme(
+    scene: Scene, settings: LimitSettings, mu: np.ndarray | None, fixed: bool
+) -> StaticProblem:
+    """The static programme of the dead load alone, its multiplier (lambda = lam_scale * lam)
+    capped at one, or ``fixed`` at one."""
+    sp_ = build_static_problem(_dead_load_scene(scene), settings)
+    if mu is not None:
+        sp_.set_friction(np.asarray(mu, dtype=float))
+    one = 1.0 / sp_.lam_scale
+    bound = sp_.lam == one if fixed else sp_.lam <= one
+    sp_.problem = cp.Problem(sp_.problem.objective, [*sp_.problem.constraints, bound])
+    return sp_
+
+
+def _stands_fixed(
+    scene: Scene, settings: LimitSettings, mu: np.ndarray | None, failure: Exception, t0: float
+) -> StandsResult:
+    """The check once the capped programme failed numerically: the full dead load as a
+    feasibility programme. With the resultant model's power cones, the capped one can stall
+    where the equilibrium has joints at the apex of their cones (seed 001 S32: Clarabel
+    'insufficient progress'); the fixed one then still finds a certified equilibrium."""
+    try:
+        res = solve_static(_dead_load_programme(scene, settings, mu, fixed=True))
+    except LimitAnalysisError as exc:
+        raise NumericalFailureError(
+            f"dead-load check undecided: the programme with the dead load capped at one failed "
+            f"({failure}), and the one with the full dead load gave no certified answer "
+            f"({exc})"
+        ) from exc
+    return StandsResult(
+        True,
+        min(res.lam, 1.0),
+        res.certificate,
+        reason=(
+            "the dead load has a certified admissible equilibrium (found with the dead load "
+            "fixed: the capped programme failed numerically)"
+        ),
+        wall_s=time.perf_counter() - t0,
+    )
+
+
 def _ranked(values: np.ndarray) -> tuple[int, ...]:
     """Indices with ``values >= INVOLVED * max``, largest first."""
     top = float(np.max(values, initial=0.0))
@@ -174,13 +215,10 @@ def stands(
         return StandsResult(
             True, 1.0, None, reason="no dead load on any free dof", wall_s=time.perf_counter() - t0
         )
-    sp_ = build_static_problem(_dead_load_scene(scene), settings)
-    if mu is not None:
-        sp_.set_friction(np.asarray(mu, dtype=float))
-    # lambda = lam_scale * lam: cap the multiplier of the dead load at one
-    cap = sp_.lam <= 1.0 / sp_.lam_scale
-    sp_.problem = cp.Problem(sp_.problem.objective, [*sp_.problem.constraints, cap])
-    res = solve_static(sp_)
+    try:
+        res = solve_static(_dead_load_programme(scene, settings, mu, fixed=False))
+    except NumericalFailureError as exc:
+        return _stands_fixed(scene, settings, mu, exc, t0)
     wall = time.perf_counter() - t0
     if res.lam >= 1.0 - STANDS_TOL:
         return StandsResult(

@@ -10,6 +10,7 @@ import pytest
 
 import limit
 import limit.clarabel as clarabel
+import limit.deadload as deadload
 from dem.scene import Scene
 from limit.errors import (
     DeadLoadInfeasibleError,
@@ -193,3 +194,60 @@ def test_a_structure_propped_by_its_live_load_gets_no_multiplier(model):
     scene = standing.with_loads(live=proportional_to_weight(standing.assembly, uphill))
     expected = math.tan(theta + math.atan(0.7))
     assert limit_analysis(scene, settings).lam == pytest.approx(expected, rel=1e-6)
+
+
+# -- the dead-load check when the capped programme fails numerically -----------------------
+
+
+def _capped_fails(monkeypatch):
+    """The first programme of the dead-load check (its multiplier capped at one) fails."""
+    real = deadload.solve_static
+    calls = []
+
+    def fake(sp_, certify=True):
+        calls.append(sp_)
+        if len(calls) == 1:
+            raise NumericalFailureError("capped programme: solver status solver_error")
+        return real(sp_, certify)
+
+    monkeypatch.setattr(deadload, "solve_static", fake)
+    return calls
+
+
+@pytest.mark.parametrize("model", ["vertex", "resultant"])
+def test_stands_falls_back_to_the_full_dead_load(monkeypatch, model):
+    """tan 20 = 0.364 < mu = 0.6 and < b/h = 0.5: it stands, certified by the fixed programme."""
+    calls = _capped_fails(monkeypatch)
+    settings = LimitSettings(interface_model=model)
+    res = limit.stands(tilted_block(0.2, 0.4, math.radians(20.0), 0.6), settings)
+    assert len(calls) == 2
+    assert res.stands and res.load_factor == pytest.approx(1.0, abs=1e-6)
+    assert res.certificate.worst() <= settings.cert_tol
+    assert "fixed" in res.reason
+
+
+def test_stands_undecided_when_the_full_dead_load_has_no_equilibrium(monkeypatch):
+    """tan 30 > b/h = 0.5: it topples; without the capped programme's dual bound the check
+    says it cannot decide instead of answering."""
+    _capped_fails(monkeypatch)
+    with pytest.raises(NumericalFailureError, match="undecided"):
+        limit.stands(tilted_block(0.2, 0.4, math.radians(30.0), 0.8))
+
+
+def test_resultant_dead_load_check_of_a_seed_wall():
+    """Seed 001 S32 (305 blocks) with the resultant model: the capped programme stalled in
+    Clarabel ('insufficient progress'), so its upper bound was refused; the wall stands (the
+    DEM carries its dead load with both laws) and the check now says so, certified."""
+    from dem.scenes.seed001_walls import SPECIMENS
+
+    spec = SPECIMENS["restrepo-S32"]
+    settings = LimitSettings(
+        interface_model="resultant",
+        mu=spec.joint.mu,
+        tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # optimal_inaccurate, certified
+        res = limit.stands(spec.build(), settings)
+    assert res.stands
+    assert res.certificate.worst() <= settings.cert_tol
