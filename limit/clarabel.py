@@ -205,7 +205,9 @@ def attempts_for(sp_: StaticProblem) -> tuple[Attempt, ...]:
     return (REFINED, TIGHTENED)
 
 
-def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
+def solve_static(
+    sp_: StaticProblem, certify: bool = True, feasibility: bool = False
+) -> LimitResult:
     """Solve a compiled programme, map its status and certify the solution (module notes).
 
     Parameters
@@ -214,6 +216,9 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
     certify : bool
         Compute the certificate of an ``optimal`` solve and reject it above
         ``settings.cert_tol``. An ``optimal_inaccurate`` one is always certified.
+    feasibility : bool
+        The programme only asks whether a point exists (its multiplier is fixed): a solution
+        is certified by its primal residuals alone (:meth:`Certificate.worst`).
 
     Raises
     ------
@@ -252,16 +257,16 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
         result = _read_solution(sp_, status, certify or status != "optimal", t0, solve_s)
         result.attempts = history
         cert = result.certificate
-        if cert is None or _certified(cert, settings):
+        if cert is None or _certified(cert, settings, feasibility):
             if status == "optimal_inaccurate":
                 warnings.warn(
                     f"limit analysis: Clarabel ended optimal_inaccurate ({text}); the point "
-                    f"passed its certificate (worst residual {cert.worst():.1e} <= cert_tol "
-                    f"{settings.cert_tol:.0e}) and is returned with that status",
+                    f"passed its certificate (worst residual {cert.worst(feasibility):.1e} <= "
+                    f"cert_tol {settings.cert_tol:.0e}) and is returned with that status",
                     stacklevel=2,
                 )
             return result
-        failure = _certificate_failure(cert, settings)
+        failure = _certificate_failure(cert, settings, feasibility)
         logger.info("%s attempt rejected: %s", attempt.label, failure)
         rejected = failure
     raise NumericalFailureError(
@@ -272,10 +277,12 @@ def solve_static(sp_: StaticProblem, certify: bool = True) -> LimitResult:
     )
 
 
-def _certificate_failure(cert: Certificate, settings: LimitSettings) -> str:
+def _certificate_failure(cert: Certificate, settings: LimitSettings, feasibility: bool) -> str:
     """Why a certificate failed, in words."""
-    if cert.worst() > settings.cert_tol:
-        why = f"worst relative residual {cert.worst():.2e} > cert_tol {settings.cert_tol:.1e}"
+    worst = cert.worst(feasibility)
+    if worst > settings.cert_tol:
+        what = "primal residual" if feasibility else "relative residual"
+        why = f"worst {what} {worst:.2e} > cert_tol {settings.cert_tol:.1e}"
     else:
         why = (
             f"residual relative to the loads of its own blocks {cert.local_residual:.2e} > "
@@ -284,10 +291,11 @@ def _certificate_failure(cert: Certificate, settings: LimitSettings) -> str:
     return f"the solution failed its certificate ({why}): {cert.to_dict()}"
 
 
-def _certified(cert: Certificate, settings: LimitSettings) -> bool:
-    """Every residual within ``cert_tol`` of the total weight, and within :data:`LOCAL_TOL`
-    of the loads of the blocks concerned."""
-    return cert.worst() <= settings.cert_tol and not cert.local_residual > LOCAL_TOL
+def _certified(cert: Certificate, settings: LimitSettings, feasibility: bool = False) -> bool:
+    """Every residual (primal ones only for a ``feasibility`` programme) within ``cert_tol``
+    of the total weight, and within :data:`LOCAL_TOL` of the loads of the blocks concerned."""
+    worst = cert.worst(feasibility)
+    return worst <= settings.cert_tol and not cert.local_residual > LOCAL_TOL
 
 
 def _read_solution(

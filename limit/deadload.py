@@ -54,7 +54,9 @@ class StandsResult:
         equilibrium, capped at 1 [-].
     certificate : Certificate or None
         Residuals of the capped programme (primal: the equilibrium when it stands; dual bound
-        ``certificate.dual_objective < 1`` when it does not). None when decided without a
+        ``certificate.dual_objective < 1`` when it does not), or of the programme with the
+        dead load fixed when the capped one failed (primal residuals only,
+        ``certificate.worst(feasibility=True)``). None when decided without a
         solve (nothing loaded, or a block without any support).
     blocks : tuple of int
         When it does not stand: the blocks that move most in the dead-load mechanism.
@@ -135,7 +137,7 @@ def _stands_fixed(
     where the equilibrium has joints at the apex of their cones (seed 001 S32: Clarabel
     'insufficient progress'); the fixed one then still finds a certified equilibrium."""
     try:
-        res = solve_static(_dead_load_programme(scene, settings, mu, fixed=True))
+        res = solve_static(_dead_load_programme(scene, settings, mu, fixed=True), feasibility=True)
     except LimitAnalysisError as exc:
         raise NumericalFailureError(
             f"dead-load check undecided: the programme with the dead load capped at one failed "
