@@ -25,7 +25,9 @@ estimate (b), not a bound
     surface flat in the normal direction (so normality gives zero dilatancy); the capacities
     are updated with relaxation ``omega`` until lambda and the normal forces settle. The whole
     history of lambda and a convergence flag are returned; the iteration may cycle (the normal
-    forces of a programme are not unique), in which case it is reported as not converged.
+    forces of a programme are not unique), in which case it is reported as not converged. A
+    last iterate that is neither converged nor admissible and lies above the upper bound is
+    withdrawn (no estimate, with a note): it cannot be the non-associated multiplier.
 """
 
 from __future__ import annotations
@@ -106,8 +108,9 @@ class IterativeEstimate:
 
     Attributes
     ----------
-    lam : float
-        Last multiplier (an estimate, not a bound) [-].
+    lam : float or None
+        Last multiplier (an estimate, not a bound) [-]; None when it was withdrawn
+        (``note``).
     history : list of float
         lambda of the associated start and of every iteration.
     converged : bool
@@ -127,9 +130,13 @@ class IterativeEstimate:
     failure : str
         Why the iteration stopped early ("" when it did not).
     wall_s : float
+    note : str
+        Why ``lam`` was withdrawn ("" when it was not): :func:`bounds_and_estimates` withdraws
+        a last iterate that is neither converged nor admissible and lies above the upper
+        bound, which the non-associated multiplier never exceeds.
     """
 
-    lam: float
+    lam: float | None
     history: list
     converged: bool
     admissible: bool
@@ -139,6 +146,26 @@ class IterativeEstimate:
     result: LimitResult | None
     failure: str = ""
     wall_s: float = 0.0
+    note: str = ""
+
+    def withdraw_above(self, upper: float, lam_unit: float) -> None:
+        """Withdraw ``lam`` if it is neither converged nor admissible and lies above the
+        ``upper`` bound (an admissible or converged iterate above it is left for the
+        ordering check: that would be an inconsistency, not a cut iteration)."""
+        if self.converged or self.admissible or not _above(self.lam, upper, lam_unit):
+            return
+        self.note = (
+            f"no estimate (b): the last iterate {self.lam:.6g} lies above the upper bound "
+            f"{upper:.6g}; it did not converge in {self.n_iter} updates and violates Coulomb "
+            f"with its own normal forces (excess {self.coulomb_excess:.2g} W)"
+            + (f"; {self.failure}" if self.failure else "")
+        )
+        self.lam = None
+
+
+def _above(a: float | None, b: float | None, unit: float, rtol: float = 1e-6) -> bool:
+    """``a > b`` beyond a relative allowance (absolute in units of lambda ``unit``)."""
+    return a is not None and b is not None and a > b * (1 + rtol) + rtol * unit
 
 
 def _normal_capacity(sp_: StaticProblem, result: LimitResult) -> np.ndarray:
@@ -378,7 +405,7 @@ class Bounds:
         """
 
         def above(a, b):
-            return a is not None and b is not None and a > b * (1 + rtol) + rtol * self.lam_unit
+            return _above(a, b, self.lam_unit, rtol)
 
         it = self.iterative
         named = {
@@ -412,6 +439,7 @@ class Bounds:
             "iterative_converged": None if it is None else it.converged,
             "iterative_admissible": None if it is None else it.admissible,
             "iterative_failure": None if it is None else it.failure,
+            "iterative_note": None if it is None else it.note,
             "lower": self.lower,
             "lower_note": self.lower_note,
             "issues": self.issues,
@@ -467,6 +495,7 @@ def bounds_and_estimates(
     it = None
     if iterate:
         it = iterative_estimate(scene, settings, max_updates=max_updates, omega=omega, start=upper)
+        it.withdraw_above(upper.lam, sp_.lam_scale)
         times["iterative"] = it.wall_s
     lo, note = None, "not computed"
     if lower:

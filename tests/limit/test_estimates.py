@@ -111,23 +111,64 @@ def test_default_budget_settles_a_45_block_dry_wall():
     assert b.iterative.lam <= b.upper
 
 
-def test_an_estimate_above_the_upper_bound_is_never_returned_silently(monkeypatch):
-    """Feed a wrong estimate (b): a failed, inadmissible iterate above the upper bound, as
-    seen on a dry wall (issue 13). It must be refused, or flagged with strict=False."""
+def _iterate_above_the_bound(monkeypatch, admissible: bool):
+    """Estimate (b) made a failed, unconverged iterate 1.1 times the upper bound, as seen on a
+    dry wall (issue 13) and on seed 001 Chee Liang 14-15 (resultant model: 47.31 kN/m^2, upper
+    bound 44.85)."""
     import limit.estimates as est
 
     real = est.iterative_estimate
 
     def wrong(*args, **kw):
         it = real(*args, **kw)
-        it.lam, it.admissible, it.failure = 1.1 * kw["start"].lam, False, "iteration 3: ..."
+        it.lam, it.failure = 1.1 * kw["start"].lam, "iteration 3: ..."
+        it.converged, it.admissible = False, admissible
         return it
 
     monkeypatch.setattr(est, "iterative_estimate", wrong)
-    scene = block_on_ground(1.0, 1.0, 0.2, 0.6)
+    return block_on_ground(1.0, 1.0, 0.2, 0.6)  # upper bound 0.6
+
+
+def test_an_inadmissible_iterate_above_the_upper_bound_is_no_estimate(monkeypatch):
+    """It cannot be the non-associated multiplier: no estimate (b), a note that says why, and
+    the certified upper bound is kept."""
+    b = bounds_and_estimates(_iterate_above_the_bound(monkeypatch, admissible=False))
+    assert b.iterative.lam is None and b.consistent
+    assert "0.66 lies above the upper bound 0.6" in b.iterative.note
+    assert b.upper == pytest.approx(0.6, rel=1e-6)
+    assert b.to_dict()["iterative"] is None
+
+
+def test_an_admissible_iterate_above_the_upper_bound_is_an_inconsistency(monkeypatch):
+    """An admissible iterate is statically admissible for the associated problem: above the
+    upper bound it contradicts it, and is refused, or flagged with strict=False."""
+    scene = _iterate_above_the_bound(monkeypatch, admissible=True)
     with pytest.raises(InconsistentBoundsError, match=r"estimate \(b\) 0.66 is above") as info:
         bounds_and_estimates(scene)
     assert not info.value.bounds.estimates_below_upper()
     b = bounds_and_estimates(scene, strict=False)
     assert not b.consistent and not b.estimates_below_upper()
     assert b.to_dict()["issues"] == b.issues != []
+
+
+def test_no_estimate_of_a_seed_wall_lies_above_its_upper_bound():
+    """Seed 001 Chee Liang 14-15, resultant model: the fixed-capacity iteration stops at its
+    second update (Clarabel fails) on an iterate of 47.31 kN/m^2, above the certified upper
+    bound of 44.85. Whatever the iteration does, a reported estimate (b) is at or below the
+    upper bound, and the bound itself is kept."""
+    import warnings
+
+    from dem.scenes.seed001_walls import SPECIMENS
+
+    spec = SPECIMENS["chee-liang-14-15"]
+    settings = LimitSettings(
+        interface_model="resultant",
+        mu=spec.joint.mu,
+        tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # optimal_inaccurate, certified
+        b = bounds_and_estimates(spec.build(), settings, max_updates=30, lower=False)
+    assert b.consistent
+    it = b.iterative
+    assert (it.lam is None and "above the upper bound" in it.note) or it.lam <= b.upper

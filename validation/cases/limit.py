@@ -144,7 +144,7 @@ def _bounds_rows(
         rows.append(
             Row(
                 f"{label} [{model}] estimate (b) fixed-capacity iteration {unit_label}",
-                it.lam / unit,
+                None if it.lam is None else it.lam / unit,
                 est_ref,
                 source,
                 it.wall_s,
@@ -157,6 +157,7 @@ def _bounds_rows(
                     "n_iter": it.n_iter,
                     "history": [h / unit for h in it.history],
                     "failure": it.failure,
+                    "note": it.note,
                     "issues": "; ".join(b.issues),
                 },
             )

@@ -30,7 +30,7 @@ MULTIPLIERS = (
     ("explicit", "lambda_moving", "explicit DEM, first moving lambda"),
 )
 
-WHY_NONE = {"lower": "lower_note", "reduced_mu": "reduced_note"}
+WHY_NONE = {"lower": "lower_note", "reduced_mu": "reduced_note", "iterative": "iterative_note"}
 """The value that says why a bound or an estimate is missing."""
 
 

@@ -94,6 +94,7 @@ class LimitBounds:
             "iterative": None if it is None else it.lam,
             "iterative_converged": None if it is None else it.converged,
             "iterative_admissible": None if it is None else it.admissible,
+            "iterative_note": None if it is None else it.note,
             "lower": finite_or_none(b.lower),
             "lower_note": b.lower_note,
             "status": b.associated.status,

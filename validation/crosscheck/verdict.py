@@ -128,7 +128,7 @@ def _model_checks(ctx: Context, model: str, rtol: float) -> list[Check]:
     for label, key in (("estimate mu*", "reduced_mu"), ("estimate (b)", "iterative")):
         name, est = f"{label} within bounds ({model})", v[key]
         if est is None:
-            why = v.get("reduced_note") if key == "reduced_mu" else None
+            why = v.get("reduced_note" if key == "reduced_mu" else "iterative_note")
             out.append(Check(name, NA, detail=why or "not computed"))
         elif key == "iterative" and not v["iterative_admissible"]:
             detail = "last iterate not admissible: not bounded by the upper bound"
