@@ -1,4 +1,5 @@
-"""Tiny scenes with closed-form collapse multipliers for the limit-analysis tests."""
+"""Tiny scenes with closed-form collapse multipliers for the limit-analysis tests, and the
+seed 001 walls with their joints."""
 
 import numpy as np
 
@@ -71,3 +72,17 @@ def tilted_block(width: float, height: float, theta: float, mu: float, depth=0.2
     rot = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
     blk = box((-width / 2, -depth / 2, 0.0), (width / 2, depth / 2, height))
     return Scene.from_convex_blocks([GROUND @ rot.T, blk @ rot.T], density, fixed=[0], mu=mu)
+
+
+def seed_wall(key: str, model: str):
+    """``(scene, settings)`` of a seed 001 specimen with its joints (mu, tensile strength)."""
+    from dem.scenes.seed001_walls import SPECIMENS
+    from limit.problems import LimitSettings
+
+    spec = SPECIMENS[key]
+    settings = LimitSettings(
+        interface_model=model,
+        mu=spec.joint.mu,
+        tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
+    )
+    return spec.build(), settings

@@ -14,7 +14,7 @@ from dem.scenes.running_bond_wall import running_bond_wall
 from limit.errors import InconsistentBoundsError
 from limit.estimates import bounds_and_estimates, iterative_estimate, reduced_friction
 from limit.problems import LimitSettings
-from tests.limit._scenes import block_on_ground
+from tests.limit._scenes import block_on_ground, seed_wall
 
 
 def _random_wall(seed: int):
@@ -158,17 +158,10 @@ def test_no_estimate_of_a_seed_wall_lies_above_its_upper_bound():
     upper bound, and the bound itself is kept."""
     import warnings
 
-    from dem.scenes.seed001_walls import SPECIMENS
-
-    spec = SPECIMENS["chee-liang-14-15"]
-    settings = LimitSettings(
-        interface_model="resultant",
-        mu=spec.joint.mu,
-        tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
-    )
+    scene, settings = seed_wall("chee-liang-14-15", "resultant")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # optimal_inaccurate, certified
-        b = bounds_and_estimates(spec.build(), settings, max_updates=30, lower=False)
+        b = bounds_and_estimates(scene, settings, max_updates=30, lower=False)
     assert b.consistent
     it = b.iterative
     assert (it.lam is None and "above the upper bound" in it.note) or it.lam <= b.upper

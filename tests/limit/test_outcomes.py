@@ -20,7 +20,14 @@ from limit.errors import (
 )
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
-from tests.limit._scenes import GROUND, block_on_ground, box, pressed_block, tilted_block
+from tests.limit._scenes import (
+    GROUND,
+    block_on_ground,
+    box,
+    pressed_block,
+    seed_wall,
+    tilted_block,
+)
 
 
 def overhanging_and_standing():
@@ -248,17 +255,10 @@ def test_resultant_dead_load_check_of_a_seed_wall(key):
     """Seed 001 walls with the resultant model whose upper bounds were refused for want of a
     certified dead-load check. They stand (the DEM carries their dead load with both laws),
     and the check now says so, certified."""
-    from dem.scenes.seed001_walls import SPECIMENS
-
-    spec = SPECIMENS[key]
-    settings = LimitSettings(
-        interface_model="resultant",
-        mu=spec.joint.mu,
-        tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
-    )
+    scene, settings = seed_wall(key, "resultant")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # optimal_inaccurate, certified
-        res = limit.stands(spec.build(), settings)
+        res = limit.stands(scene, settings)
     assert res.stands
     # standing is proved by the equilibrium's own (primal) residuals
     assert res.certificate.worst(feasibility=True) <= settings.cert_tol
