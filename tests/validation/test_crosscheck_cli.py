@@ -171,3 +171,18 @@ def test_a_negative_axis_after_live_is_a_direction_not_an_option(tmp_path, capfd
     capfd.readouterr()
     assert console_main([str(path), "--live", "-w", "--out", str(out)]) == 2
     assert "load direction must be x, y, z" in capfd.readouterr().err
+
+
+def test_a_path_without_collapse_is_not_shown_as_lambda_max(tmp_path, capfd):
+    """An arch pushed down by its own weight: the limit analysis finds no mechanism and the
+    DEM paths end at max_steps (lambda about 700, scale-free dry joints). The summary table
+    said 'lambda_max 743' for them; it now names the end of the path."""
+    scene = voussoir_arch(2.0, 0.2, 12, live_direction=None)
+    path = tmp_path / "arch.json"
+    scene.to_json(path)
+    args = ["--live", "-z", "--out", str(tmp_path / "r"), "--methods", "dead,limit,dem"]
+    assert console_main([str(path), *args, "--no-pictures"]) == 0
+    rows = [line for line in capfd.readouterr().out.splitlines() if line.startswith("dem-")]
+    assert len(rows) == 2
+    for row in rows:
+        assert "no collapse" in row and "lambda_max" not in row, row

@@ -127,6 +127,9 @@ def _main_value(res: StepResult):
     for key in SUMMARY_KEYS:
         if key in res.values:
             value = res.values[key]
+            if key == "lambda_max" and res.values.get("collapsed") is False:
+                # the end of a path, not a collapse multiplier
+                key = f"lambda reached ({res.values['termination']}, no collapse)"
             return key, value / 1e6 if key.endswith("_Pa") else value
     return "", None
 
