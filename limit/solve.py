@@ -42,6 +42,12 @@ from limit.errors import (
     NoMechanismError,
     NumericalFailureError,
 )
+from limit.matrices import (
+    equilibrium_matrix,
+    interface_friction,
+    interface_vertices,
+    vertex_force_matrix,
+)
 from limit.problems import LimitSettings, build_kinematic_problem, build_static_problem
 
 __all__ = [
@@ -163,4 +169,41 @@ def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> t
     u = u / float(live @ u)
     vel = np.zeros(6 * scene.n_blocks)
     vel[kp.free] = u
-    return float(kp.problem.value) * kp.lam_scale, vel.reshape(-1, 6), status
+    lam = float(kp.problem.value) * kp.lam_scale
+    _check_mechanism(scene, settings, vel.reshape(-1, 6), lam)
+    return lam, vel.reshape(-1, 6), status
+
+
+def _check_mechanism(scene: Scene, settings: LimitSettings, vel: np.ndarray, lam: float):
+    """Certify the kinematic answer from the mechanism itself, in SI: every corner's
+    velocity conjugate to its compression is at least mu times the one conjugate to its
+    friction (normality), to ``cert_tol`` of the largest; and the work balance
+    ``lambda = -(F_D + A_eq f_t) . u / F_L . u`` gives back ``lam`` (to ``cert_tol`` of the
+    multiplier whose live force equals the dead weight). An admissible mechanism bounds the
+    collapse multiplier from above, whatever the solver's accuracy."""
+    interfaces = scene.assembly.interfaces()
+    a_eq_u = equilibrium_matrix(scene.assembly.centroid, interfaces).T @ vel.ravel()
+    w = vertex_force_matrix(interfaces).T @ a_eq_u
+    w_p, w_t = w[0::3], np.hypot(w[1::3], w[2::3])
+    vi, _ = interface_vertices(interfaces)
+    mu = interface_friction(interfaces, scene.assembly.mu, settings.mu)[vi]
+    finite = np.isfinite(mu)
+    # mu = inf: the corner only opens (w_t = 0, w_p >= 0)
+    excess = np.where(finite, np.where(finite, mu, 0.0) * w_t - w_p, np.maximum(w_t, -w_p))
+    scale = float(np.abs(w).max(initial=0.0)) or 1.0
+    f_t = np.zeros(6 * interfaces.n_interfaces)
+    f_t[0::6] = settings.tensile_strength * interfaces.area
+    dead, live = scene.dead_wrench.ravel(), scene.loads.live_wrench.ravel()
+    lam_work = -(float(dead @ vel.ravel()) + float(f_t @ a_eq_u)) / float(live @ vel.ravel())
+    unit = float(np.abs(dead).sum()) / max(float(np.abs(live).sum()), 1e-300)
+    worst = float(excess.max(initial=0.0)) / scale
+    if worst > settings.cert_tol:
+        raise NumericalFailureError(
+            f"the kinematic mechanism is not admissible: a corner slides beyond mu times its "
+            f"opening by {worst:.2e} of the largest corner velocity"
+        )
+    if not abs(lam_work - lam) <= settings.cert_tol * max(abs(lam), unit):
+        raise NumericalFailureError(
+            f"the kinematic multiplier {lam:.9g} fails its check: the work balance of its "
+            f"mechanism gives {lam_work:.9g}"
+        )

@@ -11,7 +11,7 @@ import pytest
 
 from dem.scene import Supports
 from dem.scenes.running_bond_wall import running_bond_wall
-from limit.errors import InconsistentBoundsError
+from limit.errors import InconsistentBoundsError, NumericalFailureError
 from limit.estimates import bounds_and_estimates, iterative_estimate, reduced_friction
 from limit.problems import LimitSettings
 from tests.limit._scenes import block_on_ground, seed_wall
@@ -165,3 +165,22 @@ def test_no_estimate_of_a_seed_wall_lies_above_its_upper_bound():
     assert b.consistent
     it = b.iterative
     assert (it.lam is None and "above the upper bound" in it.note) or it.lam <= b.upper
+
+
+def test_the_kinematic_mechanism_is_checked_by_its_own_work_balance():
+    """A 0.4 x 0.3 x 0.8 m block on the ground, mu = 0.7: the kinematic answer (tipping,
+    b / h = 0.5) passes its check; a pure slide (no opening: inadmissible with dilatancy) and
+    a wrong multiplier do not."""
+    from limit.solve import _check_mechanism, kinematic_analysis
+
+    scene = block_on_ground(0.4, 0.3, 0.8, mu=0.7)
+    settings = LimitSettings(interface_model="vertex")
+    lam, vel, _ = kinematic_analysis(scene, settings)
+    np.testing.assert_allclose(lam, 0.5, rtol=1e-6)
+    _check_mechanism(scene, settings, vel, lam)
+    with pytest.raises(NumericalFailureError, match="work balance"):
+        _check_mechanism(scene, settings, vel, 1.01 * lam)
+    slide = np.zeros_like(vel)
+    slide[1, 0] = 1.0 / scene.loads.live_wrench[1, 0]  # unit live power, no opening
+    with pytest.raises(NumericalFailureError, match="slides beyond mu"):
+        _check_mechanism(scene, settings, slide, 0.0)
