@@ -14,6 +14,11 @@ forces are then an admissible equilibrium of the dead load, certified like any s
 admissible equilibrium exists, and the equilibrium duals are a mechanism on which the dead load
 does positive work (the Farkas certificate of the infeasible programme, seed 001, Sec. 2 by
 duality). Its fastest blocks and the interfaces that open or slide most are named.
+
+When the capped programme fails numerically, the check solves the full dead load as a
+feasibility programme (the multiplier fixed at one), whose equilibrium is certified by its
+primal residuals alone: there is nothing to optimise. Only a "yes" comes from it; without the
+capped programme's dual bound a "no" is not proven, and the check says it is undecided.
 """
 
 from __future__ import annotations
@@ -203,8 +208,9 @@ def stands(
     Raises
     ------
     NumericalFailureError
-        The capped programme has no certified answer, or its answer is undecided (below one
-        but with a dual bound that does not prove it).
+        Neither the capped programme nor the one with the full dead load has a certified
+        answer, or the capped one's answer is undecided (below one but with a dual bound that
+        does not prove it).
     """
     settings = settings or LimitSettings()
     t0 = time.perf_counter()
