@@ -204,9 +204,34 @@ def _face_pair_interface(
     area, centroid_2d, moments = polygon_properties(poly)
     if area <= tol * tol:
         return None
+    turn = _rectangle_turn(poly, area)
+    if turn is not None:
+        basis, poly = turn @ basis, poly @ turn.T
+        area, centroid_2d, moments = polygon_properties(poly)
     points = origin + poly @ basis
     centroid = origin + centroid_2d @ basis
-    return points, area, centroid, np.stack([n, t1, t2]), moments
+    return points, area, centroid, np.stack([n, *basis]), moments
+
+
+def _rectangle_turn(poly: np.ndarray, area: float, rel_tol: float = 1e-6) -> np.ndarray | None:
+    """The rotation (2, 2) that lays ``t1, t2`` along the sides of a rectangular contact whose
+    sides are not along them, else None.
+
+    The frame follows the global axes (:func:`plane_basis`), so the joints of a wall built
+    along a diagonal are turned rectangles in it; the laws that take a rectangle's sides along
+    ``t1, t2`` (the fibre grid with springs on the edges, the resultant law's reduced
+    rectangle) then saw their bounding box: an arch turned 30 degrees about z collapsed 2 %
+    lower with the fibre law.
+    """
+    size = np.ptp(poly, axis=0)
+    if abs(size[0] * size[1] - area) <= rel_tol * area:
+        return None  # along the axes already, or no rectangle
+    edge = np.roll(poly, -1, axis=0) - poly
+    u = edge[np.argmax(np.hypot(edge[:, 0], edge[:, 1]))]
+    u = u / np.hypot(u[0], u[1])
+    turn = np.array([[u[0], u[1]], [-u[1], u[0]]])  # rows: the new t1, t2 in (t1, t2)
+    side = np.ptp(poly @ turn.T, axis=0)
+    return turn if abs(side[0] * side[1] - area) <= rel_tol * area else None
 
 
 def _pack(rows: list[tuple]) -> Interfaces:
