@@ -31,7 +31,7 @@ import numpy as np
 
 from dem.scene import Loads, Scene
 from limit.certificates import Certificate
-from limit.clarabel import solve_static
+from limit.clarabel import LimitResult, solve_static
 from limit.errors import DeadLoadInfeasibleError, LimitAnalysisError, NumericalFailureError
 from limit.matrices import equilibrium_matrix
 from limit.problems import LimitSettings, StaticProblem, build_static_problem
@@ -134,31 +134,21 @@ def _dead_load_programme(
     return sp_
 
 
-def _stands_fixed(
-    scene: Scene, settings: LimitSettings, mu: np.ndarray | None, failure: Exception, t0: float
-) -> StandsResult:
+def _solve_fixed(
+    scene: Scene, settings: LimitSettings, mu: np.ndarray | None, failure: Exception
+) -> LimitResult:
     """The check once the capped programme failed numerically: the full dead load as a
-    feasibility programme. With the resultant model's power cones, the capped one can stall
-    where the equilibrium has joints at the apex of their cones (seed 001 S32: Clarabel
-    'insufficient progress'); the fixed one then still finds a certified equilibrium."""
+    feasibility programme, certified by its primal residuals. With the resultant model's
+    power cones, the capped one can stall (seed 001 S32: Clarabel 'insufficient progress')
+    where the fixed one still finds a certified equilibrium."""
     try:
-        res = solve_static(_dead_load_programme(scene, settings, mu, fixed=True), feasibility=True)
+        return solve_static(_dead_load_programme(scene, settings, mu, fixed=True), feasibility=True)
     except LimitAnalysisError as exc:
         raise NumericalFailureError(
             f"dead-load check undecided: the programme with the dead load capped at one failed "
             f"({failure}), and the one with the full dead load gave no certified answer "
             f"({exc})"
         ) from exc
-    return StandsResult(
-        True,
-        min(res.lam, 1.0),
-        res.certificate,
-        reason=(
-            "the dead load has a certified admissible equilibrium (found with the dead load "
-            "fixed: the capped programme failed numerically)"
-        ),
-        wall_s=time.perf_counter() - t0,
-    )
 
 
 def _ranked(values: np.ndarray) -> tuple[int, ...]:
@@ -223,17 +213,19 @@ def stands(
         return StandsResult(
             True, 1.0, None, reason="no dead load on any free dof", wall_s=time.perf_counter() - t0
         )
+    how = ""
     try:
         res = solve_static(_dead_load_programme(scene, settings, mu, fixed=False))
     except NumericalFailureError as exc:
-        return _stands_fixed(scene, settings, mu, exc, t0)
+        res = _solve_fixed(scene, settings, mu, exc)
+        how = " (found with the dead load fixed: the capped programme failed numerically)"
     wall = time.perf_counter() - t0
-    if res.lam >= 1.0 - STANDS_TOL:
+    if how or res.lam >= 1.0 - STANDS_TOL:  # the fixed programme is feasible: it stands
         return StandsResult(
             True,
             min(res.lam, 1.0),
             res.certificate,
-            reason="the dead load has a certified admissible equilibrium",
+            reason="the dead load has a certified admissible equilibrium" + how,
             wall_s=wall,
         )
     if not res.certificate.dual_objective < 1.0:
