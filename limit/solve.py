@@ -170,17 +170,20 @@ def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> t
     vel = np.zeros(6 * scene.n_blocks)
     vel[kp.free] = u
     lam = float(kp.problem.value) * kp.lam_scale
-    _check_mechanism(scene, settings, vel.reshape(-1, 6), lam)
-    return lam, vel.reshape(-1, 6), status
+    vel = vel.reshape(-1, 6)
+    _check_mechanism(scene, settings, vel, lam, kp.lam_scale)
+    return lam, vel, status
 
 
-def _check_mechanism(scene: Scene, settings: LimitSettings, vel: np.ndarray, lam: float):
+def _check_mechanism(
+    scene: Scene, settings: LimitSettings, vel: np.ndarray, lam: float, unit: float
+):
     """Certify the kinematic answer from the mechanism itself, in SI: every corner's
     velocity conjugate to its compression is at least mu times the one conjugate to its
     friction (normality), to ``cert_tol`` of the largest; and the work balance
-    ``lambda = -(F_D + A_eq f_t) . u / F_L . u`` gives back ``lam`` (to ``cert_tol`` of the
-    multiplier whose live force equals the dead weight). An admissible mechanism bounds the
-    collapse multiplier from above, whatever the solver's accuracy."""
+    ``lambda = -(F_D + A_eq f_t) . u / F_L . u`` gives back ``lam`` (to ``cert_tol`` of
+    ``lam`` or of ``unit``, the programme's scale of lambda). An admissible mechanism bounds
+    the collapse multiplier from above, whatever the solver's accuracy."""
     interfaces = scene.assembly.interfaces()
     a_eq_u = equilibrium_matrix(scene.assembly.centroid, interfaces).T @ vel.ravel()
     w = vertex_force_matrix(interfaces).T @ a_eq_u
@@ -195,7 +198,6 @@ def _check_mechanism(scene: Scene, settings: LimitSettings, vel: np.ndarray, lam
     f_t[0::6] = settings.tensile_strength * interfaces.area
     dead, live = scene.dead_wrench.ravel(), scene.loads.live_wrench.ravel()
     lam_work = -(float(dead @ vel.ravel()) + float(f_t @ a_eq_u)) / float(live @ vel.ravel())
-    unit = float(np.abs(dead).sum()) / max(float(np.abs(live).sum()), 1e-300)
     worst = float(excess.max(initial=0.0)) / scale
     if worst > settings.cert_tol:
         raise NumericalFailureError(

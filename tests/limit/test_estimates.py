@@ -177,10 +177,10 @@ def test_the_kinematic_mechanism_is_checked_by_its_own_work_balance():
     settings = LimitSettings(interface_model="vertex")
     lam, vel, _ = kinematic_analysis(scene, settings)
     np.testing.assert_allclose(lam, 0.5, rtol=1e-6)
-    _check_mechanism(scene, settings, vel, lam)
+    _check_mechanism(scene, settings, vel, lam, 1.0)
     with pytest.raises(NumericalFailureError, match="work balance"):
-        _check_mechanism(scene, settings, vel, 1.01 * lam)
+        _check_mechanism(scene, settings, vel, 1.01 * lam, 1.0)
     slide = np.zeros_like(vel)
     slide[1, 0] = 1.0 / scene.loads.live_wrench[1, 0]  # unit live power, no opening
     with pytest.raises(NumericalFailureError, match="slides beyond mu"):
-        _check_mechanism(scene, settings, slide, 0.0)
+        _check_mechanism(scene, settings, slide, 0.0, 1.0)
