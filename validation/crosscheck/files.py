@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 from dem.scene import Scene
+from validation.crosscheck.limit_steps import WHY_NONE
 from validation.crosscheck.pictures import draw_pictures, write_vtus
 from validation.crosscheck.steps import Context
 from validation.report import _fmt, _git_commit, _jsonable, _versions
@@ -29,9 +30,6 @@ MULTIPLIERS = (
     ("explicit", "lambda_stable", "explicit DEM, last stable lambda"),
     ("explicit", "lambda_moving", "explicit DEM, first moving lambda"),
 )
-
-WHY_NONE = {"lower": "lower_note", "reduced_mu": "reduced_note", "iterative": "iterative_note"}
-"""The value that says why a bound or an estimate is missing."""
 
 
 def write_report(scene: Scene, ctx: Context, result, out: Path, pictures: bool) -> dict:

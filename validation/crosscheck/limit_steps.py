@@ -11,6 +11,9 @@ from dem.scene import Scene
 from limit import LimitSettings, NoMechanismError, bounds_and_estimates, stands
 from validation.crosscheck.steps import Context, StepResult, finite_or_none, skip_without_collapse
 
+WHY_NONE = {"lower": "lower_note", "reduced_mu": "reduced_note", "iterative": "iterative_note"}
+"""The value of a bounds step that says why a bound or an estimate is missing."""
+
 
 @dataclass(frozen=True)
 class DeadLoadCheck:

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, replace
 
+from validation.crosscheck.limit_steps import WHY_NONE
 from validation.crosscheck.steps import Context
 
 MODEL_OF_LAW = {"fibre": "vertex", "resultant": "resultant"}
@@ -128,7 +129,7 @@ def _model_checks(ctx: Context, model: str, rtol: float) -> list[Check]:
     for label, key in (("estimate mu*", "reduced_mu"), ("estimate (b)", "iterative")):
         name, est = f"{label} within bounds ({model})", v[key]
         if est is None:
-            why = v.get("reduced_note" if key == "reduced_mu" else "iterative_note")
+            why = v.get(WHY_NONE[key])
             out.append(Check(name, NA, detail=why or "not computed"))
         elif key == "iterative" and not v["iterative_admissible"]:
             detail = "last iterate not admissible: not bounded by the upper bound"
