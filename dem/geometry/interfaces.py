@@ -3,17 +3,26 @@
 Two blocks share an interface where a face of one and a face of the other lie in the same plane
 with opposite outward normals and their polygons overlap with positive area. The interface is
 the exact intersection of the two face polygons.
+
+Blocks that touch only along an edge or at a corner share no polygon, so no interface: the
+face-interface models (the static DEM, the limit analysis) pass no force between them, while
+the explicit DEM's nodes do see such contacts. They are listed in
+:attr:`Interfaces.edge_contacts` and logged as a warning, so that a scene whose load path runs
+through one is not analysed without it unknowingly.
 """
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from dem.geometry.clipping import clip_convex_polygons, polygon_properties
 from dem.geometry.polyhedron import ConvexBlock, penetration_depth, plane_basis
+
+logger = logging.getLogger(__name__)
 
 REL_TOL = 1e-6
 """Default tolerance for coplanarity and overlap, relative to the median block size."""
@@ -65,6 +74,10 @@ class Interfaces:
     second_moments : (m, 3) float
         ``J11 = int y1^2 dA``, ``J22 = int y2^2 dA``, ``J12 = int y1 y2 dA`` [m^4]; the polar
         moment is ``J11 + J22``.
+    edge_contacts : (k, 2) int64
+        Pairs of blocks (``i < j``) that touch, within the tolerance, without sharing a contact
+        polygon: along an edge, at a corner, or over a sliver thinner than the tolerance. No
+        interface carries force between them (module notes).
     """
 
     block_a: np.ndarray
@@ -77,6 +90,7 @@ class Interfaces:
     centroid: np.ndarray
     frame: np.ndarray
     second_moments: np.ndarray
+    edge_contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
 
     @property
     def n_interfaces(self) -> int:
@@ -169,6 +183,7 @@ def find_interfaces(
 
     rows: list[tuple] = []
     overlaps: list[tuple[int, int, float]] = []
+    edge_contacts: list[tuple[int, int]] = []
     for i, j in pairs:
         a, b = blocks[i], blocks[j]
         if check_overlaps:
@@ -178,13 +193,27 @@ def find_interfaces(
                 continue
         dots = a.normals @ b.normals.T
         gap = np.abs(a.offsets[:, None] + b.offsets[None, :])
+        found = len(rows)
         for fa, fb in zip(*np.nonzero((dots < -1.0 + rel_tol) & (gap < tol)), strict=True):
             row = _face_pair_interface(a, b, fa, fb, tol)
             if row is not None:
                 rows.append((i, j, fa, fb, *row))
+        # every separating axis (no early exit): the pair touches if none parts it by > tol
+        if len(rows) == found and penetration_depth(a, b, -np.inf) >= -tol:
+            edge_contacts.append((int(i), int(j)))
     if overlaps:
         raise OverlapError(overlaps)
-    return _pack(rows)
+    if edge_contacts:
+        shown = ", ".join(f"{i}-{j}" for i, j in edge_contacts[:8])
+        more = f" and {len(edge_contacts) - 8} more" if len(edge_contacts) > 8 else ""
+        logger.warning(
+            "%d pair(s) of blocks touch only along an edge or at a corner (blocks %s%s): no "
+            "interface carries force between them in the static DEM and the limit analysis",
+            len(edge_contacts),
+            shown,
+            more,
+        )
+    return _pack(rows, np.array(edge_contacts, dtype=np.int64).reshape(-1, 2))
 
 
 def _face_pair_interface(
@@ -234,7 +263,7 @@ def _rectangle_turn(poly: np.ndarray, area: float, rel_tol: float = 1e-6) -> np.
     return turn if abs(side[0] * side[1] - area) <= rel_tol * area else None
 
 
-def _pack(rows: list[tuple]) -> Interfaces:
+def _pack(rows: list[tuple], edge_contacts: np.ndarray) -> Interfaces:
     m = len(rows)
     if m == 0:
         empty_i = np.zeros(0, dtype=np.int64)
@@ -249,6 +278,7 @@ def _pack(rows: list[tuple]) -> Interfaces:
             np.zeros((0, 3)),
             np.zeros((0, 3, 3)),
             np.zeros((0, 3)),
+            edge_contacts,
         )
     counts = np.array([len(r[4]) for r in rows])
     return Interfaces(
@@ -262,4 +292,5 @@ def _pack(rows: list[tuple]) -> Interfaces:
         centroid=np.array([r[6] for r in rows]),
         frame=np.array([r[7] for r in rows]),
         second_moments=np.array([r[8] for r in rows]),
+        edge_contacts=edge_contacts,
     )

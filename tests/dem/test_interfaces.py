@@ -42,11 +42,32 @@ def test_interfaces_move_with_a_rigid_motion():
     np.testing.assert_allclose(moved.polar_moment, ref.polar_moment, rtol=1e-10)
 
 
-def test_touching_edges_or_corners_are_no_interface():
+def test_touching_edges_or_corners_are_no_interface_but_are_listed(caplog):
     a = convex_block(box_corners((0, 0, 0), (1, 1, 1)))
     edge = convex_block(box_corners((1, 1, 0), (2, 2, 1)))  # shares only an edge
     far = convex_block(box_corners((0, 0, 1.5), (1, 1, 2)))  # parallel, 0.5 apart
-    assert find_interfaces([a, edge, far]).n_interfaces == 0
+    corner = convex_block(box_corners((2, 2, 1), (3, 3, 2)))  # a corner of `edge`
+    apart = convex_block(box_corners((1.01, -1, 0), (2, -0.01, 1)))  # 0.01 off a's edge
+    with caplog.at_level("WARNING", logger="dem.geometry.interfaces"):
+        iface = find_interfaces([a, edge, far, corner, apart])
+    assert iface.n_interfaces == 0
+    assert iface.edge_contacts.tolist() == [[0, 1], [1, 3]]
+    assert "2 pair(s) of blocks touch only along an edge or at a corner (blocks 0-1, 1-3)" in (
+        caplog.text
+    )
+
+
+def test_a_block_resting_on_an_edge_is_listed_not_skipped():
+    # a cube turned 45 deg about x stands on the top of a slab along one edge only
+    slab = convex_block(box_corners((-1, -1, -1), (2, 2, 0)))
+    rot = Rotation.from_rotvec([np.pi / 4, 0, 0]).as_matrix()
+    cube = convex_block(box_corners((0, -0.5, -0.5), (1, 0.5, 0.5)) @ rot.T + [0, 0, 0.5**0.5])
+    iface = find_interfaces([slab, cube])
+    assert iface.n_interfaces == 0
+    assert iface.edge_contacts.tolist() == [[0, 1]]
+    # lifted by more than the tolerance it touches nothing
+    lifted = find_interfaces([slab, cube.transformed(np.eye(3), [0, 0, 1e-3])])
+    assert lifted.edge_contacts.shape == (0, 2)
 
 
 def test_overlapping_blocks_are_reported_with_pair_and_depth():

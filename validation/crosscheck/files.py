@@ -94,6 +94,7 @@ def markdown(result, files: dict, payload: dict) -> str:
         f"the free blocks {s['weight_free_N'] / 1e3:.4g} kN; live load per unit lambda "
         f"{[round(v / 1e3, 4) for v in s['live_resultant_N']]} kN; extent "
         f"{[round(v, 4) for v in s['extent_m']]} m; friction {s['mu']}.",
+        *_edge_contacts(s.get("edge_contacts", [])),
         "",
         "## In short",
         "",
@@ -242,3 +243,18 @@ def _most_stressed(blocks: list[dict], tol: float) -> list[dict]:
 
 def _mpa(value) -> float | None:
     return None if value is None else value / 1e6
+
+
+def _edge_contacts(pairs: list) -> list[str]:
+    """A line on the block pairs that touch only along an edge or at a corner, if any."""
+    if not pairs:
+        return []
+    shown = ", ".join(f"{i}-{j}" for i, j in pairs[:10])
+    more = f" and {len(pairs) - 10} more" if len(pairs) > 10 else ""
+    return [
+        "",
+        f"{len(pairs)} pair{'s' if len(pairs) > 1 else ''} of blocks "
+        f"touch{'es' if len(pairs) == 1 else ''} only along an edge or at a corner "
+        f"({shown}{more}): the static DEM and the limit analysis carry no force there (face "
+        "interfaces only); the explicit DEM's nodes do.",
+    ]

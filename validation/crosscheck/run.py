@@ -165,6 +165,7 @@ def scene_summary(scene: Scene) -> dict:
         "n_fixed": int((~free).sum()),
         "n_restrained_dofs": int(scene.supports.restrained.sum()),
         "n_interfaces": a.interfaces().n_interfaces,
+        "edge_contacts": a.interfaces().edge_contacts.tolist(),
         "weight_free_N": float(weight[free].sum()),
         "live_resultant_N": scene.loads.live_wrench[free, :3].sum(0).tolist(),
         "live_weight_direction": weight_direction(scene),
