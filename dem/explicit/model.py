@@ -506,7 +506,11 @@ class ExplicitModel:
 
     # -- stepping ----------------------------------------------------------------------------
     def advance(
-        self, n_steps: int, alpha: float | None = None, indenter: dict | None = None
+        self,
+        n_steps: int,
+        alpha: float | None = None,
+        indenter: dict | None = None,
+        local_damping: float | None = None,
     ) -> np.ndarray:
         """Advance ``n_steps`` steps, rebuilding the neighbour list when needed.
 
@@ -517,6 +521,8 @@ class ExplicitModel:
             Global damping rate [1/s] (default: the model's).
         indenter : dict, optional
             ``centre0`` (3,) [m], ``t0`` [s], ``radius`` [m], ``velocity`` (3,) [m/s].
+        local_damping : float, optional
+            Local damping coefficient (default: the settings').
 
         Returns
         -------
@@ -539,7 +545,9 @@ class ExplicitModel:
                 radius=float(indenter["radius"]),
                 velocity=np.asarray(indenter["velocity"], dtype=float),
             )
-        stepping = (self.dt, alpha, self.settings.local_damping, self.parallel)
+        if local_damping is None:
+            local_damping = self.settings.local_damping
+        stepping = (self.dt, alpha, local_damping, self.parallel)
         left = int(n_steps)
         while left > 0:
             with _dynamic_schedule(self.parallel):
@@ -569,8 +577,8 @@ class ExplicitModel:
                                     self.settings.k_n))  # fmt: skip
 
     def relax(self, relaxation: RelaxationSettings) -> dict:
-        """Run under gravity until the kinetic energy is below the tolerance, then check that
-        every block is in balance.
+        """Run under gravity until the kinetic energy is below the tolerance and every block
+        is in balance (:meth:`unbalanced` at most ``relaxation.unbalanced_tol``).
 
         Returns
         -------
@@ -599,12 +607,16 @@ class ExplicitModel:
         chunk = self.settings.chunk_steps
         ke = self.kinetic_energy()
         start_pos = self.state.motion.pos.copy()
+        balanced = math.isinf(relaxation.unbalanced_tol)
         while True:
-            self.advance(chunk, alpha=alpha)
+            self.advance(chunk, alpha=alpha, local_damping=relaxation.local_damping)
             steps += chunk
             ke = self.kinetic_energy()
-            if steps >= relaxation.min_steps and ke <= tol:
+            at_rest = steps >= relaxation.min_steps and ke <= tol
+            if at_rest and (balanced or self.unbalanced().max() <= relaxation.unbalanced_tol):
                 break
+            if steps >= relaxation.max_steps and ke <= tol:
+                break  # at rest yet out of balance: _check_balance says so
             if steps >= relaxation.max_steps:
                 message = (
                     f"relaxation did not converge in {steps} steps: kinetic energy {ke:.3e} J "
@@ -663,10 +675,12 @@ class ExplicitModel:
             )
             if converged:
                 message += (
-                    " although the kinetic energy met its tolerance: the damping holds it back "
-                    "(with blocks of very different mass the lightest sets the damping rate, "
-                    "which over-damps the heaviest: it creeps). Lower RelaxationSettings."
-                    "ke_speed (e.g. ten times) or global_damping"
+                    f" after {relaxation.max_steps} steps although the kinetic energy met its "
+                    "tolerance: the viscous damping holds it back (a block still dropping into "
+                    "place sinks at g / alpha; with blocks of very different mass the lightest "
+                    "sets the damping rate, which over-damps the heaviest: it creeps). Relax "
+                    "with RelaxationSettings(global_damping=0, local_damping=0.7), or lower "
+                    "ke_speed or global_damping"
                 )
             if relaxation.require_convergence:
                 raise SimulationError(message)

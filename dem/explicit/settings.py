@@ -176,6 +176,12 @@ class RelaxationSettings:
         without meeting the tolerance raises :class:`SimulationError`.
     global_damping : float or None
         Damping ratio at ``omega_max`` during relaxation (None: the solver's value).
+    local_damping : float or None
+        Local (non-viscous) damping coefficient in [0, 1) during relaxation (None: the solver's
+        value, :attr:`ExplicitSettings.local_damping`). With ``global_damping=0`` a block that
+        still has to drop into place falls at ``1 - local_damping`` of its free acceleration,
+        where the viscous damping of the default lets it sink at ``g / alpha`` (4e-5 m/s on a
+        5 x 5 TIS panel): slow enough to pass for rest.
     require_convergence : bool
         Raise when ``max_steps`` pass without meeting the tolerance (default); otherwise log a
         warning and go on (a panel without interlock, theta = 0, never comes to rest). The
@@ -185,13 +191,16 @@ class RelaxationSettings:
         force (external load plus contact forces), or net moment over its bounding radius, as
         a fraction of the load it carries (its weight for a block resting on supports; see
         :meth:`dem.explicit.model.ExplicitModel.unbalanced`). Default 1e-2; inf: no check.
-        The kinetic energy alone misses a heavy block that creeps under over-damping.
+        The kinetic energy alone misses a heavy block that creeps under over-damping, and
+        under local damping a block that passes a moment of slow motion: relaxation goes on
+        until both criteria hold.
     """
 
     ke_speed: float = 1e-6
     min_steps: int = 1000
     max_steps: int = 200000
     global_damping: float | None = 0.1
+    local_damping: float | None = None
     require_convergence: bool = True
     unbalanced_tol: float = 1e-2
 
@@ -220,6 +229,10 @@ class RelaxationSettings:
         if not self.unbalanced_tol > 0:
             raise ValueError(
                 f"RelaxationSettings.unbalanced_tol must be positive, got {self.unbalanced_tol}"
+            )
+        if self.local_damping is not None and not 0 <= self.local_damping < 1:
+            raise ValueError(
+                f"RelaxationSettings.local_damping must be in [0, 1), got {self.local_damping}"
             )
 
 
