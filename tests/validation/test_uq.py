@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
+from dem.explicit import RelaxationSettings
 from dem.tis_stiffness import K_GAPS_SEED_000, k_series, tis_panel_k_def
 from dem.units import GPA, MM
 from validation.cases.tis import QUICK
@@ -63,3 +64,18 @@ def test_gap_task_calibrated_over_perfect_is_the_stiffness_ratio_and_gaps_weaken
     assert gappy["peak_load"] < 0.9 * perfect["peak_load"]
     assert len(perfect["delta_mm"]) == len(perfect["load_n"]) > 10
     assert max(perfect["load_n"]) == pytest.approx(perfect["peak_load"], rel=0.02)
+
+
+def test_a_gapped_panel_relaxed_until_settled_is_in_balance_unlike_as_built():
+    """As built, the loose blocks still hang where they were built when the indenter starts
+    (out of balance by their whole weight); relaxed 'viscous', every block carries its load
+    within the relaxation's default tolerance."""
+    disc = {**QUICK, "node_spacing_mm": 2.0}
+    k_n = tis_panel_k_def(3) / (GPA / MM)
+    base = {"n": 3, "theta_deg": 2.5, "disc": disc, "stop_below_peak_fraction": 0.5,
+            "k_n_gpa_mm": k_n, "mean_gap_mm": 0.01, "gap_seed": 3}  # fmt: skip
+    built = tis_gaps_task({**base, "settle": "as_built"}, 0)
+    settled = tis_gaps_task({**base, "settle": "viscous"}, 1)  # the same gaps: gap_seed
+    assert built["relax_unbalanced_ratio"] > 0.5
+    assert settled["relax_unbalanced_ratio"] <= RelaxationSettings().unbalanced_tol
+    assert settled["relax_steps"] > built["relax_steps"]
