@@ -99,6 +99,7 @@ def unsupported_blocks(scene: Scene) -> tuple[np.ndarray, str]:
             "the dead load, so the structure falls down by itself."
         )
     interfaces = scene.assembly.interfaces()
+    interfaces.warn_edge_contacts()
     touched = np.zeros(scene.n_blocks, dtype=bool)
     touched[interfaces.block_a] = True
     touched[interfaces.block_b] = True

@@ -360,6 +360,7 @@ def build_static_problem(
     if friction not in _FRICTION:
         raise ValueError(f"friction must be one of {_FRICTION}, got {friction!r}")
     interfaces = scene.assembly.interfaces()
+    interfaces.warn_edge_contacts()
     m = interfaces.n_interfaces
     free = scene.supports.free_dofs.ravel()
     a_full = equilibrium_matrix(scene.assembly.centroid, interfaces)
@@ -659,6 +660,7 @@ def build_kinematic_problem(scene: Scene, settings: LimitSettings | None = None)
     if settings.compressive_strength is not None:
         raise ValueError("the kinematic programme has no compressive strength")
     interfaces = scene.assembly.interfaces()
+    interfaces.warn_edge_contacts()
     free = scene.supports.free_dofs.ravel()
     a_eq = equilibrium_matrix(scene.assembly.centroid, interfaces)[free]
     dead = scene.dead_wrench.ravel()[free]

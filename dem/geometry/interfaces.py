@@ -7,13 +7,14 @@ the exact intersection of the two face polygons.
 Blocks that touch only along an edge or at a corner share no polygon, so no interface: the
 face-interface models (the static DEM, the limit analysis) pass no force between them, while
 the explicit DEM's nodes do see such contacts. They are listed in
-:attr:`Interfaces.edge_contacts` and logged as a warning, so that a scene whose load path runs
-through one is not analysed without it unknowingly.
+:attr:`Interfaces.edge_contacts`, which those models log as a warning, so that a scene whose
+load path runs through one is not analysed without it unknowingly.
 """
 
 from __future__ import annotations
 
 import logging
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -92,6 +93,23 @@ class Interfaces:
     second_moments: np.ndarray
     edge_contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
 
+    def warn_edge_contacts(self) -> None:
+        """Log :attr:`edge_contacts` as a warning (once per object): called by the models
+        that carry force through interfaces only."""
+        pairs = self.edge_contacts
+        if len(pairs) == 0 or self in _WARNED:
+            return
+        _WARNED.add(self)
+        shown = ", ".join(f"{i}-{j}" for i, j in pairs[:8])
+        more = f" and {len(pairs) - 8} more" if len(pairs) > 8 else ""
+        logger.warning(
+            "%d pair(s) of blocks touch only along an edge or at a corner (blocks %s%s): no "
+            "interface carries force between them in the static DEM and the limit analysis",
+            len(pairs),
+            shown,
+            more,
+        )
+
     @property
     def n_interfaces(self) -> int:
         return len(self.area)
@@ -109,6 +127,9 @@ class Interfaces:
         """(n_k, 2) corners of interface ``k`` in ``(y1, y2)`` about its centroid [m]."""
         rel = self.polygon(k) - self.centroid[k]
         return rel @ self.frame[k, 1:].T
+
+
+_WARNED: weakref.WeakSet[Interfaces] = weakref.WeakSet()
 
 
 def bounding_boxes(blocks: Sequence[ConvexBlock]) -> tuple[np.ndarray, np.ndarray]:
@@ -203,16 +224,6 @@ def find_interfaces(
             edge_contacts.append((int(i), int(j)))
     if overlaps:
         raise OverlapError(overlaps)
-    if edge_contacts:
-        shown = ", ".join(f"{i}-{j}" for i, j in edge_contacts[:8])
-        more = f" and {len(edge_contacts) - 8} more" if len(edge_contacts) > 8 else ""
-        logger.warning(
-            "%d pair(s) of blocks touch only along an edge or at a corner (blocks %s%s): no "
-            "interface carries force between them in the static DEM and the limit analysis",
-            len(edge_contacts),
-            shown,
-            more,
-        )
     return _pack(rows, np.array(edge_contacts, dtype=np.int64).reshape(-1, 2))
 
 

@@ -139,6 +139,7 @@ class Model:
         itf = scene.assembly.interfaces()
         if itf.n_interfaces == 0:
             raise ValueError("the scene has no interfaces: every block is isolated")
+        itf.warn_edge_contacts()
         free = scene.supports.free_dofs
         if not free.any():
             raise ValueError("the scene has no free dof: every block is fixed or restrained")

@@ -48,10 +48,13 @@ def test_touching_edges_or_corners_are_no_interface_but_are_listed(caplog):
     far = convex_block(box_corners((0, 0, 1.5), (1, 1, 2)))  # parallel, 0.5 apart
     corner = convex_block(box_corners((2, 2, 1), (3, 3, 2)))  # a corner of `edge`
     apart = convex_block(box_corners((1.01, -1, 0), (2, -0.01, 1)))  # 0.01 off a's edge
-    with caplog.at_level("WARNING", logger="dem.geometry.interfaces"):
-        iface = find_interfaces([a, edge, far, corner, apart])
+    iface = find_interfaces([a, edge, far, corner, apart])
     assert iface.n_interfaces == 0
     assert iface.edge_contacts.tolist() == [[0, 1], [1, 3]]
+    with caplog.at_level("WARNING", logger="dem.geometry.interfaces"):
+        iface.warn_edge_contacts()
+        iface.warn_edge_contacts()  # once per object
+    assert caplog.text.count("touch only along an edge") == 1
     assert "2 pair(s) of blocks touch only along an edge or at a corner (blocks 0-1, 1-3)" in (
         caplog.text
     )

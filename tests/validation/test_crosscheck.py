@@ -94,11 +94,15 @@ def test_a_scene_without_live_load_skips_the_collapse_analysis(two_block_stack):
     assert result.step("fem").status == "skipped"
 
 
-def test_the_report_names_blocks_that_touch_only_along_an_edge(tmp_path):
+def test_the_report_names_blocks_that_touch_only_along_an_edge(tmp_path, caplog):
     # the top block sits a full width over: it meets the lower one along an edge only
     scene = stack(2, 0.4, 0.3, 0.5, offsets=[0.0, 0.4], mu=0.6)
     settings = CrosscheckSettings.quick(methods=("dead",), pictures=False)
-    result = crosscheck(scene, settings, tmp_path)
+    with caplog.at_level("WARNING", logger="dem.geometry.interfaces"):
+        result = crosscheck(scene, settings, tmp_path)
+    assert "1 pair(s) of blocks touch only along an edge or at a corner (blocks 0-1)" in (
+        caplog.text
+    )
     assert result.scene["edge_contacts"] == [[0, 1]]
     md = (tmp_path / "report.md").read_text()
     assert "1 pair of blocks touches only along an edge or at a corner (0-1)" in md
