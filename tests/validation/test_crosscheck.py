@@ -17,7 +17,7 @@ from validation.crosscheck import (
     crosscheck,
 )
 from validation.crosscheck.run import weight_direction
-from validation.crosscheck.verdict import verdict
+from validation.crosscheck.verdict import explicit_checks, verdict
 
 
 @pytest.fixture(scope="module")
@@ -241,3 +241,14 @@ def test_report_lists_unbalanced_and_most_stressed_blocks():
     listed = [b["block"] for b in _most_stressed(blocks, 1e-3)]
     assert len(listed) == BLOCK_ROWS and 3 in listed
     assert listed == sorted(listed) and 29 in listed and 4 not in listed
+
+
+@pytest.mark.parametrize("lam, status", [(0.26, "pass"), (0.29, "fail"), (0.22, "fail")])
+def test_the_explicit_bracket_check_says_why_an_explicit_collapse_comes_lower(lam, status):
+    dem = {"collapsed": True, "lambda_max": lam}
+    explicit = {"collapsed": True, "lambda_stable": 0.245, "lambda_moving": 0.25}
+    ctx = _ctx(explicit=explicit, **{"dem-fibre": dem})
+    (check,) = [c for c in explicit_checks(ctx, 1e-6, 0.05) if "static DEM fibre" in c.name]
+    assert check.status == status
+    # the hint only where the explicit run collapsed lower than the static DEM: 0.29 > 0.2625
+    assert ("large displacements" in check.detail) == (lam == 0.29)
