@@ -32,9 +32,8 @@ EXPLICIT_BELOW = (
     "dem.explicit.simulate_lateral with a stiffer k_n: the bracket should rise towards the "
     "static value)"
 )
-"""What a failed bracket check adds when the explicit run collapsed below the static DEM (a
-barrel vault of 40 voussoirs: bracket (0.267, 0.269] against 0.291; with k_n ten times larger
-(0.289, 0.291], a tenth (0.185, 0.188])."""
+"""What a failed bracket check adds when the explicit run collapsed below the static DEM (the
+README's cross-check section gives a barrel vault's numbers)."""
 
 
 @dataclass(frozen=True)
