@@ -7,7 +7,8 @@ Prints
    laws and both return-wall models: wall time against the target of 10 s, lambda, termination
    (a run that did not collapse, or raised a StaticSolverError, prints its termination,
    never a lambda), steps and Newton
-   iterations (the load-independent measure of the work); ``--save FILE`` writes the rows as
+   iterations (the load-independent measure of the work) and how many of them went into
+   Newton solves that failed; ``--save FILE`` writes the rows as
    JSON, ``--baseline FILE`` (such a JSON of an earlier run) adds to each row its time and
    iterations relative to that run and the change of lambda, and prints the totals;
 2. ``--kernels``: the same runs (with the validation case's settings) repeated in
@@ -61,6 +62,7 @@ def run_wall(name: str, model: str, variant: str) -> dict:
             "termination": "error",
             "steps": 0,
             "iterations": 0,
+            "failed_iterations": 0,
             "wall_s": time.perf_counter() - start,
         }
     return {
@@ -69,6 +71,7 @@ def run_wall(name: str, model: str, variant: str) -> dict:
         "termination": result.termination,
         "steps": result.n_steps,
         "iterations": result.n_iterations,
+        "failed_iterations": result.n_failed_iterations,
         "wall_s": time.perf_counter() - start,
     }
 
@@ -88,7 +91,7 @@ def _line(r: dict) -> str:
     return (
         f"{r['name']:9s} {r['model']:9s} {r['variant']:12s} lambda {lam:>11s} "
         f"{r['termination']:10s} steps {r['steps']:4d} iterations {r['iterations']:5d} "
-        f"{r['wall_s']:7.2f} s  {ok}"
+        f"(failed {r.get('failed_iterations', 0):5d}) {r['wall_s']:7.2f} s  {ok}"
     )
 
 

@@ -78,7 +78,7 @@ class PathFollower:
         The path ``(c, lambda)`` so far and its end.
     history : list of (n_free,) arrays
         ``u`` at every equilibrium.
-    n_steps, n_iterations, n_loose, n_cascades, n_arc : int
+    n_steps, n_iterations, n_loose, n_cascades, n_arc, n_failed_iterations : int
     """
 
     def __init__(self, model: Model, corrector: Corrector, start: Iterate, n_iter: int = 0):
@@ -107,7 +107,7 @@ class PathFollower:
         self.last_dlam = self.last_dc = 0.0
         self.floor = None
         self.n_steps, self.n_iterations = 0, n_iter
-        self.n_loose = self.n_cascades = self.n_arc = 0
+        self.n_loose = self.n_cascades = self.n_arc = self.n_failed_iterations = 0
         self.n_failed = 0  # consecutive failed steps
 
     @property
@@ -147,11 +147,13 @@ class PathFollower:
             if out.converged:
                 return out
             self.n_iterations += out.iterations
+            self.n_failed_iterations += out.iterations
         return corrector.solve(point, con, self.floor)
 
     def _failed(self, out: Outcome) -> tuple[str, str] | None:
         """A step without equilibrium: shorter step, control switch, cascade, or the end."""
         self.n_iterations += out.iterations
+        self.n_failed_iterations += out.iterations
         self.last_dc = 0.0
         if self.dc >= 0.5 * self.dc_cascade * (1 + 1e-12):
             self.dc_cascade = self.dc

@@ -87,6 +87,10 @@ class StaticResult:
     n_arc_steps : int
         Steps constrained along the direction of the previous increment, after the fixed
         control ``c`` failed at its smallest step (:mod:`dem.static.path`).
+    n_failed_iterations : int
+        The part of ``n_iterations`` spent in the live steps' Newton solves that did not
+        converge (a step cut and retried, or a predicted start abandoned for the last
+        equilibrium): where the time of a slow run goes.
     failure : str
         Why the run did not collapse ("" if it did).
     termination : str
@@ -120,6 +124,7 @@ class StaticResult:
     n_loose_steps: int
     n_cascades: int
     n_arc_steps: int
+    n_failed_iterations: int
     failure: str
     termination: str
     wall_s: float

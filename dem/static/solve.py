@@ -85,7 +85,7 @@ class _Unloaded:
         self.last_du = np.zeros_like(dead.u)
         self.c0 = float(model.w @ dead.u)
         self.n_steps, self.n_iterations = 0, n_iter
-        self.n_loose = self.n_cascades = self.n_arc = 0
+        self.n_loose = self.n_cascades = self.n_arc = self.n_failed_iterations = 0
 
     def pushover(self) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros(1), np.array([self.c0])
@@ -137,6 +137,7 @@ def _finish(model: Model, path, termination: str, reason: str, start: float) -> 
         n_loose_steps=path.n_loose,
         n_cascades=path.n_cascades,
         n_arc_steps=path.n_arc,
+        n_failed_iterations=path.n_failed_iterations,
         failure="" if collapsed else reason,
         termination=termination,
         wall_s=time.perf_counter() - start,

@@ -3,7 +3,8 @@
 import numpy as np
 
 from dem.scene import Scene, proportional_to_weight
-from dem.static import StaticSettings
+from dem.scenes.seed001_walls import SPECIMENS
+from dem.static import StaticSettings, solve_collapse
 from dem.static.dead_load import solve_dead_load
 from dem.static.model import Model
 from dem.static.newton import Corrector, Outcome
@@ -44,3 +45,25 @@ def test_control_follows_the_path_after_a_few_failed_steps_at_the_last_step_leng
     assert path.switched
     np.testing.assert_allclose(path.w, du / np.linalg.norm(du))
     np.testing.assert_allclose(path.dc, np.linalg.norm(du))
+
+
+def test_failed_newton_work_is_counted_apart(monkeypatch):
+    """``n_failed_iterations`` is the sum of the iterations of the live steps' Newton solves
+    that did not converge, counted here at the corrector (path control: ``con.w`` set); a wall
+    with return walls of blocks has some."""
+    outcomes = []
+    solve = Corrector.solve
+
+    def counted(self, start, con, *args, **kwargs):
+        out = solve(self, start, con, *args, **kwargs)
+        if con.w is not None:
+            outcomes.append(out)
+        return out
+
+    monkeypatch.setattr(Corrector, "solve", counted)
+    spec = SPECIMENS["restrepo-S15"]
+    settings = StaticSettings(interface_model="resultant", mu=spec.joint.mu)
+    result = solve_collapse(spec.build(return_walls="blocks"), settings)
+    failed = sum(o.iterations for o in outcomes if not o.converged)
+    assert result.n_failed_iterations == failed > 0
+    assert result.n_failed_iterations < result.n_iterations
