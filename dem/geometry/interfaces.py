@@ -100,14 +100,11 @@ class Interfaces:
         if len(pairs) == 0 or self in _WARNED:
             return
         _WARNED.add(self)
-        shown = ", ".join(f"{i}-{j}" for i, j in pairs[:8])
-        more = f" and {len(pairs) - 8} more" if len(pairs) > 8 else ""
         logger.warning(
-            "%d pair(s) of blocks touch only along an edge or at a corner (blocks %s%s): no "
+            "%d pair(s) of blocks touch only along an edge or at a corner (blocks %s): no "
             "interface carries force between them in the static DEM and the limit analysis",
             len(pairs),
-            shown,
-            more,
+            pair_list(pairs),
         )
 
     @property
@@ -130,6 +127,12 @@ class Interfaces:
 
 
 _WARNED: weakref.WeakSet[Interfaces] = weakref.WeakSet()
+
+
+def pair_list(pairs, shown: int = 8) -> str:
+    """``"0-1, 1-3 and 12 more"``: the first ``shown`` block pairs of ``pairs`` (k, 2)."""
+    text = ", ".join(f"{i}-{j}" for i, j in pairs[:shown])
+    return text + (f" and {len(pairs) - shown} more" if len(pairs) > shown else "")
 
 
 def bounding_boxes(blocks: Sequence[ConvexBlock]) -> tuple[np.ndarray, np.ndarray]:

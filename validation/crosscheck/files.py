@@ -7,6 +7,7 @@ import json
 import math
 from pathlib import Path
 
+from dem.geometry.interfaces import pair_list
 from dem.scene import Scene
 from validation.crosscheck.limit_steps import WHY_NONE
 from validation.crosscheck.pictures import draw_pictures, write_vtus
@@ -249,12 +250,10 @@ def _edge_contacts(pairs: list) -> list[str]:
     """A line on the block pairs that touch only along an edge or at a corner, if any."""
     if not pairs:
         return []
-    shown = ", ".join(f"{i}-{j}" for i, j in pairs[:10])
-    more = f" and {len(pairs) - 10} more" if len(pairs) > 10 else ""
     return [
         "",
         f"{len(pairs)} pair{'s' if len(pairs) > 1 else ''} of blocks "
         f"touch{'es' if len(pairs) == 1 else ''} only along an edge or at a corner "
-        f"({shown}{more}): the static DEM and the limit analysis carry no force there (face "
-        "interfaces only); the explicit DEM's nodes do.",
+        f"({pair_list(pairs, 10)}): the static DEM and the limit analysis carry no force there "
+        "(face interfaces only); the explicit DEM's nodes do.",
     ]
