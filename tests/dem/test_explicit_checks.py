@@ -121,6 +121,12 @@ def test_unbalanced_tol_refuses_nonsense():
         RelaxationSettings(unbalanced_tol=0.0)
 
 
+@pytest.mark.parametrize("value", [-0.1, 1.0, math.nan])
+def test_relaxation_local_damping_refuses_nonsense(value):
+    with pytest.raises(ValueError, match=r"local_damping must be in \[0, 1\)"):
+        RelaxationSettings(local_damping=value)
+
+
 SLOPE = math.radians(60.0)
 
 
