@@ -77,9 +77,8 @@ def test_heavy_block_on_light_plate_settles(relaxation):
 
 def test_a_wedge_with_gaps_drops_into_its_seat():
     """A wedge between two fixed blocks whose faces lean theta from the vertical, a normal gap g
-    on each side: it drops g / sin(theta) (closed form) and is then in balance. Under the
-    default viscous damping it sinks at g / alpha and the kinetic energy alone passes it for
-    rest at once; the balance criterion keeps the relaxation going."""
+    on each side: relaxed with local damping only, it drops g / sin(theta) (closed form) and
+    is then in balance."""
     theta, gap, a, h, d = math.radians(10.0), 1e-4, 0.02, 0.02, 0.02
     t, shift = math.tan(theta), gap / math.cos(theta)
 
