@@ -627,7 +627,7 @@ class ExplicitModel:
                 logger.warning("%s; going on", message)
                 break
         info = {"steps": steps, "kinetic": ke, "tolerance": tol}
-        info.update(self._check_balance(relaxation, converged=ke <= tol))
+        info.update(self._check_balance(relaxation, converged=ke <= tol, viscous=alpha > 0))
         info["wall_s"] = time.perf_counter() - start
         return info
 
@@ -660,10 +660,12 @@ class ExplicitModel:
         ratio[self.fixed] = 0.0
         return ratio
 
-    def _check_balance(self, relaxation: RelaxationSettings, converged: bool) -> dict:
+    def _check_balance(
+        self, relaxation: RelaxationSettings, converged: bool, viscous: bool
+    ) -> dict:
         """``unbalanced_ratio`` and ``unbalanced_block`` (:meth:`unbalanced`, the largest);
         above ``relaxation.unbalanced_tol`` raise or warn as for the kinetic energy
-        (``converged``: it met its tolerance)."""
+        (``converged``: it met its tolerance; ``viscous``: global viscous damping acted)."""
         ratio = self.unbalanced()
         worst = int(np.argmax(ratio))
         info = {"unbalanced_ratio": float(ratio[worst]), "unbalanced_block": worst}
@@ -673,7 +675,7 @@ class ExplicitModel:
                 f"moment over its radius) is {ratio[worst]:.3g} of the load it carries (tolerance "
                 f"{relaxation.unbalanced_tol:.3g})"
             )
-            if converged:
+            if converged and viscous:
                 message += (
                     f" after {relaxation.max_steps} steps although the kinetic energy met its "
                     "tolerance: the viscous damping holds it back (a block still dropping into "
@@ -681,6 +683,13 @@ class ExplicitModel:
                     "sets the damping rate, which over-damps the heaviest: it creeps). Relax "
                     "with RelaxationSettings(global_damping=0, local_damping=0.7), or lower "
                     "ke_speed or global_damping"
+                )
+            elif converged:
+                message += (
+                    f" after {relaxation.max_steps} steps although the kinetic energy met its "
+                    "tolerance, with no viscous damping: a block that moves slowly under a "
+                    "force it cannot resist (sliding or rocking off: see limit.stands), or one "
+                    "still settling; raise max_steps or lower ke_speed to tell them apart"
                 )
             if relaxation.require_convergence:
                 raise SimulationError(message)

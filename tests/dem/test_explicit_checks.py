@@ -1,6 +1,7 @@
 """Checks of the explicit solver's inputs and results: balance after relaxation, mu = inf in
 the settings, the tilting table's direction."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -73,6 +74,33 @@ def test_heavy_block_on_light_plate_settles(relaxation):
     weight = scene.assembly.mass[1:].sum() * G
     assert info["unbalanced_ratio"] < 1e-2
     assert abs(weight + force[0, 2]) <= info["unbalanced_ratio"] * HEAVY_MASS * G * (1 + 1e-3)
+
+
+def test_out_of_balance_at_rest_without_viscous_damping_is_not_blamed_on_it():
+    """A block on a slope 2 degrees steeper than its friction angle, relaxed with local damping
+    only and a loose kinetic-energy tolerance: at ``max_steps`` it is at rest yet sliding, out
+    of balance by ``sin a - mu cos a`` of its weight (closed form), and the error does not
+    blame a viscous damping that did not act."""
+    mu = 0.3
+    angle = math.atan(mu) + math.radians(2.0)
+    ground, block = box(-0.05, -0.05, -0.01, 0.1, 0.1, 0.01), box(0.0, 0.0, 0.0, 0.01, 0.01, 0.003)
+    scene = Scene.from_convex_blocks([ground, block], 2500.0, fixed=[0], mu=mu, g=0.0)
+    weight = scene.assembly.mass[1] * G
+    dead = np.zeros((2, 6))
+    dead[1, 0], dead[1, 2] = weight * math.sin(angle), -weight * math.cos(angle)
+    scene = scene.with_loads(dead=dead)
+    relaxation = RelaxationSettings(global_damping=0.0, local_damping=0.7, ke_speed=1e-2,
+                                    max_steps=2000)  # fmt: skip
+    settings = ExplicitSettings(k_n=1e10, node_spacing=0.0025)
+    with pytest.raises(SimulationError, match="no viscous damping") as caught:
+        ExplicitModel(scene, settings).relax(relaxation)
+    assert "viscous damping holds" not in str(caught.value)
+    model = ExplicitModel(scene, settings)
+    info = model.relax(dataclasses.replace(relaxation, require_convergence=False))
+    assert info["kinetic"] <= info["tolerance"]
+    np.testing.assert_allclose(
+        info["unbalanced_ratio"], math.sin(angle) - mu * math.cos(angle), rtol=0.05
+    )
 
 
 def test_a_wedge_with_gaps_drops_into_its_seat():
