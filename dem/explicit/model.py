@@ -173,6 +173,7 @@ class ExplicitModel:
         step = choose_time_step(self.omega_max, settings)
         self.dt, self.dt_critical = step["dt"], step["dt_critical"]
         self.alpha, self.beta = step["alpha"], step["beta"]
+        self._check_damping(self.alpha, "ExplicitSettings.global_damping")
         self.law = Law(
             float(settings.k_n), float(settings.k_t), self.beta,
             MU_RULE_MIN if settings.mu_rule == "min" else MU_RULE_MEAN,
@@ -535,7 +536,10 @@ class ExplicitModel:
             If the state becomes NaN or inf.
         """
         acc = np.zeros(3)
-        alpha = self.alpha if alpha is None else alpha
+        if alpha is None:
+            alpha = self.alpha
+        elif alpha != self.alpha:
+            self._check_damping(alpha, "the global damping")
         sphere = self.indenter
         if indenter is not None:
             sphere = sphere._replace(
@@ -564,6 +568,29 @@ class ExplicitModel:
             if status == STATUS_REBUILD:
                 self.rebuild()
         return acc
+
+    def _check_damping(self, alpha: float, what: str) -> None:
+        """Refuse a global damping rate ``alpha`` [1/s] that makes the time step unstable.
+
+        The damping force ``-alpha m v`` is explicit: with ``h = omega_max dt`` and the top
+        mode's damping per step ``a = (alpha + beta omega_max^2) dt`` (global plus contact
+        dashpots), symplectic Euler is stable for ``h^2 + 2 a <= 4`` (``a <= 2`` for rigid
+        motions); :func:`dem.explicit.timestep.choose_time_step` sets ``dt`` for the contact
+        dashpots alone.
+        """
+        w, dt = self.omega_max, self.dt
+        h = w * dt
+        a = (alpha + self.beta * w * w) * dt
+        if h * h + 2.0 * a <= 4.0:
+            return
+        ratio = alpha / (2.0 * w) if w > 0 else math.inf
+        allowed = (4.0 - h * h - 2.0 * self.beta * w * w * dt) / (4.0 * h) if h > 0 else math.inf
+        raise ValueError(
+            f"{what} (rate alpha = {alpha:.3e} 1/s, damping ratio {ratio:.3g} at omega_max = "
+            f"{w:.3e} rad/s) makes the explicit time step dt = {dt:.3e} s unstable: at this "
+            f"step the damping ratio may be at most {allowed:.3g}; lower it (vibrations are "
+            "damped without drag by local_damping), or lower dt / dt_safety"
+        )
 
     def elastic_energy(self, current: bool = False) -> float:
         """Normal penalty energy ``sum 1/2 k_n d^2 w A`` [J].
@@ -603,6 +630,7 @@ class ExplicitModel:
             if relaxation.global_damping is None
             else 2.0 * relaxation.global_damping * self.omega_max
         )
+        self._check_damping(alpha, "RelaxationSettings.global_damping")
         steps = 0
         chunk = self.settings.chunk_steps
         ke = self.kinetic_energy()

@@ -73,7 +73,8 @@ class ExplicitSettings:
     global_damping : float
         Global viscous damping as a damping ratio at the highest frequency ``omega_max``:
         ``alpha = 2 global_damping omega_max`` [1/s]; lower modes are damped more
-        (``zeta = alpha / (2 omega)``). Default 0.02.
+        (``zeta = alpha / (2 omega)``). Default 0.02. The damping force is explicit: a ratio
+        that makes the time step unstable (about 0.78 at the defaults) is refused.
     contact_damping : float
         Stiffness-proportional normal dashpot as a damping ratio at ``omega_max``
         (``beta = 2 contact_damping / omega_max``); default 0.1.

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+import scipy.optimize
 
 from dem.explicit import (
     ExplicitModel,
@@ -208,3 +209,32 @@ def test_tilting_table_refuses_a_vertical_live_load():
     np.testing.assert_allclose(w[1, 0] / w[1, 2], 0.5, rtol=1e-12)  # leans along -x
     w = TiltingTable().wrench(table_scene(), 0.5)
     np.testing.assert_allclose(w[1, 1] / -w[1, 2], 0.5, rtol=1e-12)
+
+
+def _amplification(h: float, a: float) -> np.ndarray:
+    """One symplectic Euler step of ``x'' = -omega^2 x - (a / dt) x'`` on ``(x, dt v)``."""
+    return np.array([[1 - h * h, 1 - a], [-h * h, 1 - a]])
+
+
+def test_a_global_damping_that_makes_the_step_unstable_is_refused():
+    """The damping force is explicit: the top mode's step is stable while the spectral radius of
+    its amplification matrix (computed here) is at most 1. A damping ratio 5 % under that limit
+    relaxes a block on the ground into balance; 5 % above, the settings are refused."""
+    scene = Scene.from_convex_blocks([GROUND, box(0.0, 0.0, 0.0, 0.02, 0.02, 0.02)], 2500.0,
+                                     fixed=[0], mu=0.5)  # fmt: skip
+    settings = ExplicitSettings(k_n=1e10, node_spacing=0.005)
+    model = ExplicitModel(scene, settings)
+    w, dt = model.omega_max, model.dt
+    h, dashpot = w * dt, model.beta * w * w * dt
+
+    def radius(ratio):
+        return max(abs(np.linalg.eigvals(_amplification(h, 2 * ratio * w * dt + dashpot))))
+
+    limit = scipy.optimize.brentq(lambda r: radius(r) - 1.0 - 1e-12, 0.0, 10.0)
+    assert radius(0.95 * limit) <= 1.0 < radius(1.05 * limit)
+    info = model.relax(RelaxationSettings(global_damping=0.95 * limit))
+    assert info["unbalanced_ratio"] < 1e-2
+    with pytest.raises(ValueError, match="RelaxationSettings.global_damping.*unstable"):
+        model.relax(RelaxationSettings(global_damping=1.05 * limit))
+    with pytest.raises(ValueError, match="ExplicitSettings.global_damping.*unstable"):
+        ExplicitModel(scene, dataclasses.replace(settings, global_damping=1.05 * limit))
