@@ -31,7 +31,9 @@ class ExplicitSettings:
         Normal penalty, traction per penetration [Pa/m] (seed 000 Eq. (2); for TIS panels
         use :func:`dem.tis_stiffness.k_def` or :func:`dem.tis_stiffness.k_series`).
     kt_over_kn : float
-        Tangential penalty ``k_t = kt_over_kn * k_n`` (seed 000 Eq. (1)); default 1.
+        Tangential penalty ``k_t = kt_over_kn * k_n`` (seed 000 Eq. (1)); default 1. It must
+        be positive: the friction force is that spring's, capped at ``mu N`` (with ``k_t = 0``
+        there would be none whatever ``mu``; a frictionless scene has ``mu = 0``).
     node_spacing : float
         Grid spacing of surface nodes [m]; default 0.5 mm (seed 000 used 0.06 mm).
     indenter_node_spacing : float or None
@@ -117,6 +119,7 @@ class ExplicitSettings:
     def __post_init__(self):
         positive = {
             "k_n": self.k_n,
+            "kt_over_kn": self.kt_over_kn,
             "node_spacing": self.node_spacing,
             "margin": self.margin,
             "level_set_spacing": self.level_set_spacing,
@@ -127,7 +130,7 @@ class ExplicitSettings:
         for name, value in positive.items():
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be finite and positive, got {value}")
-        for name in ("kt_over_kn", "global_damping", "contact_damping"):
+        for name in ("global_damping", "contact_damping"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"{name} must be finite and >= 0, got {value}")

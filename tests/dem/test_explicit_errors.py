@@ -38,6 +38,7 @@ def ground():
         (lambda: ExplicitSettings(k_n=1e9, global_damping=-0.1), "global_damping"),
         (lambda: ExplicitSettings(k_n=1e9, contact_damping=-1.0), "contact_damping"),
         (lambda: ExplicitSettings(k_n=1e9, chunk_steps=0), "chunk_steps"),
+        (lambda: ExplicitSettings(k_n=1e9, kt_over_kn=0.0), "kt_over_kn"),
         (lambda: ExplicitSettings(k_n=-1.0), "k_n"),
         (lambda: IndentationSettings(stop_below_peak_fraction=1.5), "stop_below_peak_fraction"),
         (lambda: IndentationSettings(ultimate_fraction=0.0), "ultimate_fraction"),
