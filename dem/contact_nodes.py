@@ -24,6 +24,7 @@ the other with weight 1/2. Two fixed blocks never interact (weight 0).
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass
 
@@ -32,6 +33,12 @@ import numpy as np
 from dem.geometry.clipping import clip_convex_polygons, polygon_properties
 from dem.scene import Assembly
 
+logger = logging.getLogger(__name__)
+
+MIN_REACH = 0.6
+"""Contact faces whose nodes reach less than this fraction of the face's extent (fewer than
+2.5 centroid cells across) are logged: the lever of their contact moments is that fraction;
+faces whose nodes reach 0 (one node or one row) are refused."""
 FACE_ANGLE_DEG = 20.0
 """Largest angle between one face normal and the reversed other for faces that can touch."""
 MIN_TOUCH_FRACTION = 0.05
@@ -77,6 +84,18 @@ class ContactNodes:
     @property
     def n_nodes(self) -> int:
         return len(self.area)
+
+
+def node_reach(polygon: np.ndarray, normal: np.ndarray, points: np.ndarray) -> float:
+    """Smallest ratio, over the face's two in-plane axes, of the nodes' extent to the face's
+    [-]: the lever of the contact's moment about an edge, relative to the face's (1 with nodes
+    on the edges; ``1 - 1 / n`` for ``n`` centroid cells across; 0 for one node or one row)."""
+    u, v = _face_frame(polygon, normal)
+    ratios = []
+    for axis in (u, v):
+        face = np.ptp(polygon @ axis)
+        ratios.append(np.ptp(points @ axis) / face if face > 0 else 1.0)
+    return float(min(ratios))
 
 
 def _face_frame(polygon: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -301,14 +320,21 @@ def seed_contact_nodes(
         weight[other, owner] = 0.0
         seeded.add((owner, face))
     blocks_l, points_l, normals_l, areas_l, faces_l = [], [], [], [], []
+    short = []  # (reach, block, face) of faces whose nodes fall short of their edges
     for owner, face in sorted(seeded):
         blk = assembly.blocks[owner]
-        pts, areas = seed_face(blk.vertices[blk.faces[face]], blk.normals[face], spacing, layout)
+        polygon = blk.vertices[blk.faces[face]]
+        pts, areas = seed_face(polygon, blk.normals[face], spacing, layout)
+        reach = node_reach(polygon, blk.normals[face], pts)
+        if reach < MIN_REACH:
+            short.append((reach, owner, face))
         blocks_l.append(np.full(len(areas), owner, dtype=np.int64))
         points_l.append(pts)
         normals_l.append(np.repeat(blk.normals[face][None, :], len(areas), axis=0))
         areas_l.append(areas)
         faces_l.append(np.full(len(areas), arrays.face_ptr[owner] + face, dtype=np.int64))
+    if short:
+        _warn_short_reach(short, spacing, layout)
     ind_b, ind_p, ind_a = [], [], []
     if indenter_axis_xy is not None:
         h_ind = spacing if indenter_spacing is None else indenter_spacing
@@ -342,6 +368,25 @@ def seed_contact_nodes(
         indenter_area=cat(ind_a) if ind_a else np.zeros(0),
         spacing=float(spacing),
     )
+
+
+def _warn_short_reach(short: list, spacing: float, layout: str) -> None:
+    """Refuse contact faces whose nodes carry no moment about an axis (one node, or one row);
+    log those whose nodes reach less than ``MIN_REACH`` of their extent."""
+    reach, block, face = min(short)
+    hint = f"use node_layout='vertex' (nodes on the edges) or a node_spacing below {spacing:.3g} m"
+    if reach == 0.0:
+        raise ValueError(
+            f"the contact nodes of block {block} face {face} ({layout} layout, node_spacing "
+            f"{spacing:.3g} m) lie on one point or one row: the contact there would be a hinge "
+            f"that carries no moment about that axis; {hint}"
+        )
+    logger.warning(
+        "the contact nodes of %d face(s) fall short of their edges (%s layout, node_spacing "
+        "%.3g m): the worst, block %d face %d, reach %.2f of the face's extent; rocking and "
+        "overturning capacities of those contacts shrink with that lever; %s",
+        len(short), layout, spacing, block, face, reach, hint,
+    )  # fmt: skip
 
 
 def _local(block, face: int) -> np.ndarray:

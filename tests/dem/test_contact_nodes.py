@@ -1,15 +1,18 @@
 """Surface nodes, signed distances, the nodal contact law and the neighbour-list merge."""
 
+import logging
 import math
 
 import numpy as np
 import pytest
 
-from dem.contact_nodes import build_level_sets, seed_contact_nodes, seed_face
+from dem.contact_nodes import MIN_REACH, build_level_sets, seed_contact_nodes, seed_face
+from dem.explicit import ExplicitModel, TiltingTable, masonry_settings, simulate_lateral
 from dem.geometry.polyhedron import convex_block
 from dem.kernels.broadphase import carry_history
 from dem.kernels.contact_force import traction_one
 from dem.kernels.signed_distance import convex_sdf_many, level_set_sdf_one
+from dem.scenes import stack
 from dem.scenes.tis_panel import tis_interface_area, tis_panel
 from dem.units import MM
 
@@ -150,3 +153,29 @@ def test_carry_history_merge():
     expected = np.array([ref.get(k, np.zeros(3)) for k in keys_new])
     np.testing.assert_array_equal(out, expected)
     assert carried == len(set(keys_old) & set(keys_new))
+
+
+@pytest.mark.parametrize("cells", [2, 4])
+def test_a_block_tips_over_at_the_lever_its_contact_nodes_reach(cells, caplog):
+    """Centroid nodes on a ``b x b`` base, ``n`` cells across, reach ``1 - 1 / n`` of it: a
+    block of height ``h`` tilted on the ground tips at ``lambda = (1 - 1 / n) b / h`` (closed
+    form of a rigid block rocking on its outermost nodes), not at ``b / h``; a reach under
+    ``MIN_REACH`` is logged."""
+    b, h = 0.2, 0.4
+    scene = stack(1, b, b, h, mu=0.9)
+    settings = masonry_settings(scene, node_spacing=b / cells, node_layout="centroid",
+                                contact_plane="nearest")  # fmt: skip
+    with caplog.at_level(logging.WARNING, logger="dem.contact_nodes"):
+        result = simulate_lateral(scene, settings=settings, driver=TiltingTable(step=0.05))
+    reach = 1 - 1 / cells
+    assert result.collapsed
+    assert result.lambda_stable - 0.01 <= reach * b / h <= result.lambda_moving + 0.01
+    assert ("fall short of their edges" in caplog.text) == (reach < MIN_REACH)
+
+
+def test_a_contact_face_with_a_single_node_is_refused():
+    """One node on the base would make the contact a hinge: the block tipped at lambda = 0."""
+    scene = stack(1, 0.2, 0.2, 0.4, mu=0.9)
+    settings = masonry_settings(scene, node_spacing=0.2, node_layout="centroid")
+    with pytest.raises(ValueError, match="block 0 face .* hinge .*node_layout='vertex'"):
+        ExplicitModel(scene, settings)
