@@ -12,7 +12,9 @@ with six Lagrange multipliers,
 (``M``: mass matrix of unit density): the mean displacement and the mean rotation of the block
 vanish, and ``M R lambda`` is a rigid-body-acceleration body force that carries the load's
 resultant, zero for a balanced load. The load's imbalance is checked *before* the solve
-(:func:`fem_check.loads.check_equilibrium`) and never hidden.
+(:func:`fem_check.loads.check_equilibrium`) and never hidden: the resultant ``R^T f`` of the
+assembled load must equal the checked one (:func:`check_load_transfer`), so that no load lost
+in assembly is carried away by the multipliers unseen.
 
 It is solved exactly without the saddle-point matrix (whose six dense rows ruin the sparse
 factorisation): multiplying by ``R^T`` gives :math:`\lambda = (R^T M R)^{-1} R^T f`; the
@@ -48,6 +50,7 @@ from fem_check.loads import (
     EquilibriumReport,
     TractionPatch,
     check_equilibrium,
+    check_patch_on_face,
 )
 from fem_check.mesh import BlockMesh, MeshCache, MeshingError, MeshSettings, TetMesh
 
@@ -59,6 +62,10 @@ LOCATE_CANDIDATES = 8
 """Nearest facets (by centroid) searched for the facet that holds a point."""
 TRACTION_QUAD_DEGREE = 4
 """Quadrature degree on facets for traction patches (P2 basis x affine traction = 3)."""
+
+
+class LoadTransferError(RuntimeError):
+    """The assembled FE load does not carry the resultant that was checked (load lost or added)."""
 
 
 @dataclass(frozen=True)
@@ -293,13 +300,12 @@ class ShapeOperator:
         return f, shift
 
     def patch_load_vector(self, patch: TractionPatch) -> np.ndarray:
-        """Load vector of a traction patch (reference frame), integrated exactly per facet."""
-        dev = np.abs(patch.polygon @ self.reference.normals.T - self.reference.offsets)
-        face = int(np.argmin(dev.max(axis=0)))
-        if dev[:, face].max() > 1e-5 * self.reference.size:
-            raise ValueError(
-                f"traction patch is {dev[:, face].max():.3e} m off the nearest block face"
-            )
+        """Load vector of a traction patch (reference frame), integrated exactly per facet.
+
+        Raises ``ValueError`` if the patch leaves its face
+        (:func:`fem_check.loads.check_patch_on_face`): the facets cover the face only.
+        """
+        face = check_patch_on_face(self.reference, patch, "traction patch")
         n, d = self.reference.normals[face], self.reference.offsets[face]
         ids, basis, tri2, _ = self._face_frames[face]
         poly2 = patch.polygon @ basis.T
@@ -509,6 +515,9 @@ class BlockSolver:
             If the load's imbalance exceeds ``rel_tol`` (checked before any solve).
         fem_check.mesh.MeshingError
             If gmsh cannot mesh the block (named by ``name``).
+        LoadTransferError
+            If the resultant of the assembled load vector differs from the checked one by more
+            than ``rel_tol`` (beyond the moment of moving point forces onto the surface).
         """
         report = check_equilibrium(block, load, self.rel_tol, name)
         log.info(
@@ -535,4 +544,48 @@ class BlockSolver:
         res = op.modes.T @ f
         rot = bm.rotation
         discrete = np.concatenate([rot @ res[:3], rot @ res[3:]])
+        moved = shift * float(np.linalg.norm(load.forces, axis=1).sum())
+        check_load_transfer(report, discrete, moved, self.rel_tol, name)
         return BlockSolution(bm, op, u, lam, report, discrete, shift)
+
+
+def check_load_transfer(
+    report: EquilibriumReport,
+    discrete: np.ndarray,
+    moved_moment: float,
+    rel_tol: float = EQUILIBRIUM_REL_TOL,
+    name: str = "block",
+) -> None:
+    """Raise unless the assembled FE load carries the resultant that was checked.
+
+    The rigid-mode multipliers absorb whatever resultant the load vector has, so a load lost
+    in assembly (a patch clipped, a point force dropped) would otherwise pass unseen.
+
+    Parameters
+    ----------
+    report : EquilibriumReport
+        The checked resultant (world frame, moment about the block centroid).
+    discrete : (6,) float
+        ``R^T f`` of the load vector, same frame and centre [N, N m].
+    moved_moment : float
+        Bound on the moment change from moving point forces onto the surface:
+        projection shift x sum of their magnitudes [N m].
+    rel_tol : float
+        Largest accepted difference, relative to ``scale`` (force) and ``scale size`` (moment).
+    name : str
+        Used in the error message.
+
+    Raises
+    ------
+    LoadTransferError
+    """
+    d_force = float(np.linalg.norm(discrete[:3] - report.force))
+    d_moment = float(np.linalg.norm(discrete[3:] - report.moment))
+    if d_force > rel_tol * report.scale or (
+        d_moment > rel_tol * report.scale * report.size + moved_moment
+    ):
+        raise LoadTransferError(
+            f"{name}: the assembled FE load differs from the checked loads by "
+            f"{d_force:.3e} N and {d_moment:.3e} N m (load scale {report.scale:.3e} N, "
+            f"tolerance {rel_tol:.1e}); load was lost or added in assembly"
+        )

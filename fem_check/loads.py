@@ -7,7 +7,8 @@ Everything here is in the world frame and SI units. The DEM hands over either
   :func:`interface_block_loads` turns into the traction distribution they stand for,
 
 plus gravity and the rigid-body acceleration of every block. A :class:`BlockLoad` gathers what
-acts on one block; :func:`check_equilibrium` compares its resultant with zero before any solve.
+acts on one block; :func:`check_equilibrium` checks that every traction patch lies on a face of
+the block (:func:`check_patch_on_face`) and compares the resultant with zero before any solve.
 
 Sign convention of interface resultants (this module's contract with the DEM):
 ``(N, V1, V2, M1, M2, M3)`` are the force and the moment about the interface centroid that
@@ -27,13 +28,19 @@ import numpy as np
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
+from dem.geometry.clipping import clip_convex_polygons, polygon_properties
 from dem.geometry.interfaces import Interfaces
-from dem.geometry.polyhedron import ConvexBlock, clip_halfspace
+from dem.geometry.polyhedron import ConvexBlock, clip_halfspace, plane_basis
 
 log = logging.getLogger(__name__)
 
 EQUILIBRIUM_REL_TOL = 1e-3
 """Default largest accepted load imbalance, relative to the load scale (see check_equilibrium)."""
+PATCH_FACE_REL_TOL = 1e-5
+"""Width of the band, relative to the block size, within which a traction patch may leave its
+face: off the face plane, or past the face edges (area outside <= band x patch perimeter). It
+admits DEM interface polygons, which may stick out of one block's face by the contact
+tolerance of :func:`dem.geometry.interfaces.find_interfaces` (1e-6 of the median block size)."""
 
 
 class EquilibriumError(ValueError):
@@ -207,6 +214,67 @@ def wrench_patches(
     spin = np.linalg.solve(polar, moment_c)
     traction = np.asarray(force, float) / area
     return [TractionPatch(p, traction, spin, centre) for p in polygons]
+
+
+def patch_face(block: ConvexBlock, patch: TractionPatch) -> tuple[int, float, float, float]:
+    """The face of a block that a traction patch lies on, and how far it leaves that face.
+
+    Parameters
+    ----------
+    block : ConvexBlock
+    patch : TractionPatch
+
+    Returns
+    -------
+    face : int
+        The face whose plane is nearest all the patch corners.
+    off_plane : float
+        Largest distance of a patch corner from that plane [m].
+    area : float
+        Area of the patch, projected onto the plane [m^2].
+    area_outside : float
+        Area of the projected patch outside the face polygon [m^2].
+    """
+    dev = np.abs(patch.polygon @ block.normals.T - block.offsets)  # (k, n_faces)
+    face = int(np.argmin(dev.max(axis=0)))
+    basis = np.stack(plane_basis(block.normals[face]))
+    poly2 = _counter_clockwise(patch.polygon @ basis.T)
+    face2 = _counter_clockwise(block.vertices[block.faces[face]] @ basis.T)
+    area = polygon_properties(poly2)[0]
+    inside = clip_convex_polygons(poly2, face2)
+    area_inside = polygon_properties(inside)[0] if len(inside) >= 3 else 0.0
+    return face, float(dev[:, face].max()), area, max(area - area_inside, 0.0)
+
+
+def check_patch_on_face(block: ConvexBlock, patch: TractionPatch, label: str = "patch") -> int:
+    """The face a traction patch lies on; raise if the patch leaves it (see PATCH_FACE_REL_TOL).
+
+    Raises
+    ------
+    ValueError
+        If the patch is off the face plane by more than the band width, or more of its area
+        than a band along its edges lies outside the face: that part would act on no surface
+        of the block (it would count in the resultant but not in the FE load).
+    """
+    face, off_plane, area, area_outside = patch_face(block, patch)
+    band = PATCH_FACE_REL_TOL * block.size
+    if off_plane > band:
+        raise ValueError(f"{label} is {off_plane:.3e} m off the nearest block face {face}")
+    poly = patch.polygon
+    perimeter = float(np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1).sum())
+    if area_outside > band * perimeter:
+        raise ValueError(
+            f"{label} extends past block face {face}: {area_outside:.3e} m^2 of its "
+            f"{area:.3e} m^2 lie outside the face (tolerance {band * perimeter:.1e} m^2)"
+        )
+    return face
+
+
+def _counter_clockwise(poly2: np.ndarray) -> np.ndarray:
+    """(k, 2) corners of a planar polygon, reversed if needed to run counter-clockwise."""
+    x, y = poly2[:, 0], poly2[:, 1]
+    signed = np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)
+    return poly2 if signed >= 0 else poly2[::-1]
 
 
 # -- everything on one block -------------------------------------------------------------------
@@ -415,10 +483,15 @@ def check_equilibrium(
 
     Raises
     ------
+    ValueError
+        If a traction patch leaves the block face it lies on (:func:`check_patch_on_face`):
+        its resultant would not be the load the block carries.
     EquilibriumError
         If the imbalance exceeds ``rel_tol``: the DEM state is not an equilibrium state (or the
         accelerations / damping forces were not handed over). Nothing is fixed silently.
     """
+    for i, patch in enumerate(load.patches):
+        check_patch_on_face(block, patch, f"{name}: traction patch {i}")
     force, moment = load.resultant(block)
     report = EquilibriumReport(force, moment, load.scale(block), block.size)
     if not report.rel <= rel_tol:

@@ -1,22 +1,27 @@
 """DEM loads on a block: wrench to traction, interface signs, consistent point loads."""
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
 
 from dem.geometry.interfaces import find_interfaces
 from dem.geometry.polyhedron import convex_block
+from fem_check import elastic, loads
 from fem_check.admissible import admissible_resultants, nodal_forces
-from fem_check.elastic import BlockSolver, ElasticMaterial
+from fem_check.elastic import BlockSolver, ElasticMaterial, LoadTransferError
 from fem_check.loads import (
     BlockLoad,
     BlockPointLoads,
     EquilibriumError,
     InterfaceResultants,
     TractionPatch,
+    check_equilibrium,
+    check_patch_on_face,
     interface_block_loads,
     loads_on_side,
+    patch_face,
     wrench_patches,
 )
 from fem_check.mesh import MeshSettings
@@ -234,3 +239,85 @@ def test_point_state_in_reference_points_and_world_vectors():
     mixed = dataclasses.replace(state, rotation=None)
     with pytest.raises(EquilibriumError):
         check_equilibrium(blk, mixed.for_block(0), 1e-3)
+
+
+def cube_top_and_bottom(a, overhang, p):
+    """A cube of side a, a square patch overhanging its top face by ``overhang`` on every side
+    at -p [Pa] and its bottom face at the pressure that balances it."""
+    blk = box((0, 0, 0), (a, a, a))
+    lo, hi = -overhang, a + overhang
+    top = np.array([[lo, lo, a], [hi, lo, a], [hi, hi, a], [lo, hi, a]])
+    bottom = np.array([[0, 0, 0], [a, 0, 0], [a, a, 0], [0, a, 0]], float)
+    zero, c = np.zeros(3), np.full(3, a / 2)
+    scale_up = ((a + 2 * overhang) / a) ** 2
+    load = BlockLoad(
+        patches=(
+            TractionPatch(top, [0, 0, -p], zero, c),
+            TractionPatch(bottom, [0, 0, p * scale_up], zero, c),
+        )
+    )
+    return blk, load
+
+
+@pytest.mark.parametrize("reverse", [False, True])
+def test_patch_area_outside_its_face_is_patch_minus_face(reverse):
+    """A square patch of side 3a over a cube face of side a: 8 a^2 lies outside."""
+    a = 0.2
+    blk, load = cube_top_and_bottom(a, a, 1e5)
+    patch = load.patches[0]
+    if reverse:  # clockwise about the face normal: same areas
+        patch = TractionPatch(patch.polygon[::-1], patch.traction, patch.spin, patch.centre)
+    face, off_plane, area, outside = patch_face(blk, patch)
+    np.testing.assert_allclose(blk.normals[face], [0, 0, 1], atol=1e-12)
+    assert off_plane == pytest.approx(0.0, abs=1e-15)
+    np.testing.assert_allclose(area, 9 * a**2, rtol=1e-12)
+    np.testing.assert_allclose(outside, 9 * a**2 - a**2, rtol=1e-12)
+
+
+def test_patch_past_its_face_is_refused_before_the_equilibrium_check():
+    """The balanced-looking load of a 3a x 3a patch on a cube of side a is not accepted."""
+    a = 0.2
+    blk, load = cube_top_and_bottom(a, a, 1e5)
+    force, _ = load.resultant(blk)
+    np.testing.assert_allclose(force, 0.0, atol=1e-9)  # the whole polygon balances
+    with pytest.raises(ValueError, match="traction patch 0 extends past block face") as err:
+        check_equilibrium(blk, load, name="cube")
+    assert not isinstance(err.value, EquilibriumError)
+    assert f"{8 * a**2:.3e} m^2 of its {9 * a**2:.3e} m^2" in str(err.value)
+
+
+def test_interface_overhang_within_the_dem_tolerance_is_accepted():
+    """A patch sticking out by the DEM contact tolerance (1e-6 of the size) passes; its area
+    outside is the frame ``(a + 2 e)^2 - a^2``."""
+    a = 0.2
+    eps = 1e-6 * a
+    blk, load = cube_top_and_bottom(a, eps, 1e5)
+    _, _, _, outside = patch_face(blk, load.patches[0])
+    np.testing.assert_allclose(outside, (a + 2 * eps) ** 2 - a**2, rtol=1e-6)
+    assert check_patch_on_face(blk, load.patches[0]) == int(np.argmax(blk.normals[:, 2]))
+    assert check_equilibrium(blk, load, 1e-12, "cube").rel < 1e-12
+
+
+def test_solver_refuses_a_patch_past_its_face_before_meshing():
+    a = 0.2
+    blk, load = cube_top_and_bottom(a, a, 1e5)
+    solver = BlockSolver(ElasticMaterial(10e9, 0.2), MeshSettings(size=a / 4), degree=1)
+    with pytest.raises(ValueError, match="cube: traction patch 0 extends past block face"):
+        solver.solve(blk, load, "cube")
+    assert solver.timings["mesh"] == 0.0
+
+
+def test_load_lost_in_assembly_is_not_hidden(monkeypatch):
+    """With the face check switched off, the FE load clips the 3a x 3a patch to the face and
+    loses p (9 a^2 - a^2) [N]: the solver compares resultants and raises instead of solving."""
+    a, p = 0.2, 1e5
+
+    def face_only(block, patch, label=""):
+        return patch_face(block, patch)[0]
+
+    monkeypatch.setattr(loads, "check_patch_on_face", face_only)
+    monkeypatch.setattr(elastic, "check_patch_on_face", face_only)
+    blk, load = cube_top_and_bottom(a, a, p)
+    solver = BlockSolver(ElasticMaterial(10e9, 0.2), MeshSettings(size=a / 4), degree=1)
+    with pytest.raises(LoadTransferError, match=re.escape(f"by {p * 8 * a**2:.3e} N")):
+        solver.solve(blk, load, "cube")
