@@ -23,10 +23,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from dem.kernels.interface_law import TOUCH
+from dem.static.model import model_extent
 from dem.static.newton import Constraint, Corrector, Iterate, Outcome
 from dem.static.result import StaticSolverError
 
 N_BLOCKS_NAMED = 10  # blocks an error names at most
+RESOLVED_CLOSURE = 1e3  # the dead load must close some joint by this many touching gaps
 
 
 class DeadLoadError(StaticSolverError):
@@ -72,7 +75,34 @@ def solve_dead_load(corrector: Corrector) -> tuple[Iterate, int]:
         if dt <= settings.dead_min_step * (1.0 + 1e-9):
             raise _not_carried(corrector, point, out, t, dt)
         dt = max(0.5 * dt, settings.dead_min_step)
+    check_closure(model, point)
     return point, n_iter
+
+
+def check_closure(model, point: Iterate) -> None:
+    """Refuse a dead load that closes no joint by more than ``RESOLVED_CLOSURE`` touching gaps.
+
+    The interface laws take gaps within the touching gap (``TOUCH`` times the model's extent,
+    :mod:`dem.kernels.interface_law`) as touching, with no friction: where the elastic
+    closures are that small (joint stiffness far above the loads' pressure over round-off),
+    a joint in full contact counts as barely touching, and a block on the ground slid at a
+    multiplier of 4e-7 (``k_n = 5e15`` Pa/m) instead of ``mu``. The collapse load does not
+    depend on ``k_n``, so a lower one loses nothing.
+    """
+    if model.dead_norm == 0.0:
+        return
+    kn = model.settings.kn
+    closure = float(np.max(-point.ev.law.f[:, 0] / (kn * model.itf.area)))
+    touch = TOUCH * model_extent(model.scene)
+    if 0.0 < closure < RESOLVED_CLOSURE * touch:  # (no joint pressed: held by restraints)
+        raise ValueError(
+            f"the dead load closes the joints by {closure:.3e} m at most, within "
+            f"{RESOLVED_CLOSURE:g} touching gaps ({touch:.1e} m: round-off at the model's "
+            f"size): kn = {kn:.3e} Pa/m is too stiff for these loads (or the blocks too light) "
+            f"for the interface laws to tell contact from touching; lower kn to "
+            f"{kn * closure / (10 * RESOLVED_CLOSURE * touch):.1e} Pa/m or less (the collapse "
+            "load does not depend on it)"
+        )
 
 
 def _increment(corrector: Corrector, point: Iterate, t: float) -> Outcome:

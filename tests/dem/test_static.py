@@ -221,3 +221,20 @@ def test_dead_load_mechanism_is_reported():
     scene = scene.with_loads(live=proportional_to_weight(scene.assembly, (0, 1, 0)))
     with pytest.raises(StaticSolverError, match="dead load"):
         solve_collapse(scene)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_joints_too_stiff_to_tell_contact_from_touching_are_refused(model):
+    """The dead load closes the base joint by ``W / (kn A)`` (closed form). Where that is within
+    1000 touching gaps (1e-12 of the model's 2 m extent) the run is refused, naming kn; before,
+    a block on the ground slid at lambda = 4e-7 instead of mu (kn = 5e15 Pa/m). A kn 1e5 times
+    below the refused one gives mu."""
+    mu, b, h = 0.3, 0.2, 0.5
+    scene = _stack([(b, h)], mu)
+    closure = 2000.0 * 9.81 * h  # W / A [Pa], times 1 / kn
+    kn_refused = closure / (500 * 1e-12 * 2.0)  # a closure of 500 touching gaps
+    with pytest.raises(ValueError, match=r"closes the joints by 1\.0+e-09 m .* too stiff"):
+        solve_collapse(scene, StaticSettings(interface_model=model, kn=kn_refused, kt=kn_refused))
+    kn = kn_refused * 1e-5
+    result = solve_collapse(scene, StaticSettings(interface_model=model, kn=kn, kt=kn / 2.4))
+    _near_limit(result.lambda_max, mu, model)
