@@ -31,8 +31,17 @@ def posed_vertices(
     arrays = assembly.arrays
     if rotation is None and centroid is None:
         return arrays.vertices.copy()
+    n = assembly.n_blocks
+    if rotation is not None and np.shape(rotation) != (n, 3, 3):
+        raise ValueError(
+            f"rotation must have shape {(n, 3, 3)} (one rotation matrix per block), got "
+            f"{np.shape(rotation)}; for quaternions q (scalar first) pass "
+            "scipy.spatial.transform.Rotation.from_quat(q, scalar_first=True).as_matrix()"
+        )
+    if centroid is not None and np.shape(centroid) != (n, 3):
+        raise ValueError(f"centroid must have shape {(n, 3)} [m], got {np.shape(centroid)}")
     ref = assembly.centroid
-    rot = np.broadcast_to(np.eye(3), (assembly.n_blocks, 3, 3)) if rotation is None else rotation
+    rot = np.broadcast_to(np.eye(3), (n, 3, 3)) if rotation is None else rotation
     cur = ref if centroid is None else centroid
     owner = np.repeat(np.arange(assembly.n_blocks), np.diff(arrays.vert_ptr))
     return np.einsum("pij,pj->pi", rot[owner], arrays.vertices - ref[owner]) + cur[owner]
@@ -108,7 +117,8 @@ def interface_triangles(interfaces: Interfaces) -> tuple[np.ndarray, np.ndarray,
         for i in range(start + 1, stop - 1):
             tris.append((start, i, i + 1))
             owner.append(k)
-    return interfaces.poly_points, np.array(tris, dtype=np.int64).reshape(-1, 3), np.array(owner)
+    triangles = np.array(tris, dtype=np.int64).reshape(-1, 3)
+    return interfaces.poly_points, triangles, np.array(owner, dtype=np.int64)
 
 
 def write_interfaces_vtu(
@@ -117,7 +127,9 @@ def write_interfaces_vtu(
     """Write the interface polygons as a VTU with per-interface cell data.
 
     Always written: ``interface`` (id), ``block_a``, ``block_b``, ``area`` [m^2], ``normal``;
-    ``interface_data`` adds arrays of shape (m,) or (m, k) (forces, states).
+    ``interface_data`` adds arrays of shape (m,) or (m, k) (forces, states). Without
+    interfaces (m = 0) the file has no cells but every array (VTK readers take it; meshio
+    cannot read an empty VTU back).
     """
     points, tris, owner = interface_triangles(interfaces)
     data = {

@@ -12,6 +12,7 @@ import warnings
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
+from numbers import Real
 from pathlib import Path
 
 import numpy as np
@@ -108,11 +109,17 @@ class BlockArrays:
 
 
 def per_block(name: str, value, n_blocks: int) -> np.ndarray:
-    """``value`` as a ``(n_blocks,)`` float array: one number for every block, or one each."""
+    """``value`` as a ``(n_blocks,)`` float array: one number for every block, or one each.
+
+    Strings and booleans are refused (``"0.6"`` is not silently read as 0.6).
+    """
     try:
-        arr = np.asarray(value, dtype=float)
+        raw = np.asarray(value)
+        arr = raw.astype(float)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be a number or one number per block, got {value!r}") from exc
+    if raw.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must be a number or one number per block, got {value!r}")
     if arr.ndim == 0:
         return np.full(n_blocks, float(arr))
     if arr.shape != (n_blocks,):
@@ -261,9 +268,14 @@ def fixed_mask(n_blocks: int, fixed) -> np.ndarray:
         Integer indices (``numpy`` integers included), or booleans, one per block. Floats,
         strings, a mix of booleans and integers, or a mask of another length are errors.
     """
-    items = list(np.asarray(fixed).ravel()) if isinstance(fixed, np.ndarray) else list(fixed)
-    if isinstance(fixed, np.ndarray) and fixed.ndim > 1:
+    if isinstance(fixed, np.ndarray) and fixed.ndim != 1:
         raise ValueError(f"fixed must be one-dimensional, got shape {fixed.shape}")
+    if isinstance(fixed, str | bytes) or not isinstance(fixed, Iterable):
+        raise ValueError(
+            f"fixed must be a list of block indices (or a boolean mask of length {n_blocks}), "
+            f"e.g. fixed=[0]; got {fixed!r}"
+        )
+    items = list(fixed)
     kinds = {_kind(x) for x in items}
     mask = np.zeros(n_blocks, dtype=bool)
     if not items:
@@ -430,6 +442,32 @@ def _json_bools(name: str, value, shape: tuple) -> np.ndarray:
     return arr.astype(bool)
 
 
+def _json_floats(name: str, value, shape: tuple) -> np.ndarray:
+    """A JSON array of numbers of the given shape (strings and booleans are refused)."""
+    arr = np.array(value, dtype=object)
+    if arr.shape != shape or not all(
+        isinstance(x, Real) and not isinstance(x, bool) for x in arr.ravel()
+    ):
+        raise ValueError(
+            f"scene JSON field {name!r} must be an array of numbers of shape {shape}, "
+            f"got {str(value)[:80]}"
+        )
+    return arr.astype(float)
+
+
+JSON_FIELDS = (
+    "blocks",
+    "density",
+    "mu",
+    "fixed",
+    "restrained",
+    "gravity",
+    "dead_wrench",
+    "live_wrench",
+)
+"""Fields every scene JSON holds (see :meth:`Scene.to_dict`)."""
+
+
 @dataclass(frozen=True, eq=False)
 class Scene:
     """Blocks, supports and loads: the input of every solver.
@@ -549,6 +587,15 @@ class Scene:
 
     @classmethod
     def from_dict(cls, data: dict) -> Scene:
+        """The scene of :meth:`to_dict`; a ValueError names missing or malformed fields."""
+        if not isinstance(data, dict):
+            raise ValueError(f"a scene must be a JSON object, got {type(data).__name__}")
+        missing = [k for k in JSON_FIELDS if k not in data]
+        if missing:
+            raise ValueError(
+                f"scene JSON is missing field(s) {missing}; a scene has {list(JSON_FIELDS)} "
+                "(and optionally name, meta)"
+            )
         assembly = Assembly.from_convex_blocks(data["blocks"], data["density"], data["mu"])
         n = assembly.n_blocks
         supports = Supports(
@@ -556,9 +603,9 @@ class Scene:
             _json_bools("restrained", data["restrained"], (n, 6)),
         )
         loads = Loads(
-            np.array(data["gravity"], dtype=float),
-            np.array(data["dead_wrench"], dtype=float),
-            np.array(data["live_wrench"], dtype=float),
+            _json_floats("gravity", data["gravity"], (3,)),
+            _json_floats("dead_wrench", data["dead_wrench"], (n, 6)),
+            _json_floats("live_wrench", data["live_wrench"], (n, 6)),
         )
         return cls(assembly, supports, loads, data.get("name", "scene"), data.get("meta", {}))
 
@@ -567,4 +614,8 @@ class Scene:
 
     @classmethod
     def from_json(cls, path: str | Path) -> Scene:
-        return cls.from_dict(json.loads(Path(path).read_text()))
+        """Read a scene written by :meth:`to_json`; a ValueError names the file and the field."""
+        try:
+            return cls.from_dict(json.loads(Path(path).read_text()))
+        except ValueError as exc:
+            raise ValueError(f"{path}: {exc}") from exc

@@ -14,6 +14,7 @@ read from a small TOML file (see :meth:`SceneSpec.from_toml`) or built by the co
 
 from __future__ import annotations
 
+import difflib
 import logging
 import math
 import tomllib
@@ -224,6 +225,106 @@ def blocks_from_surfaces(path: str | Path) -> list[ConvexBlock]:
     return blocks
 
 
+def _number(path: Path, key: str, value) -> float:
+    """A finite TOML number (int or float, not a boolean or a string)."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise ValueError(f"{path}: {key} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _text(path: Path, key: str, value) -> str:
+    if not isinstance(value, str):
+        raise ValueError(f"{path}: {key} must be a string, got {value!r}")
+    return value
+
+
+def _index(path: Path, key: str, value) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueError(f"{path}: {key} must be an integer block index, got {value!r}")
+    return value
+
+
+def _items(path: Path, key: str, value) -> list:
+    if not isinstance(value, list):
+        raise ValueError(f"{path}: {key} must be a list, got {value!r}")
+    return value
+
+
+def _vector(path: Path, key: str, value, size: int = 3) -> tuple[float, ...]:
+    if not isinstance(value, list) or len(value) != size:
+        raise ValueError(f"{path}: {key} must be a list of {size} numbers, got {value!r}")
+    return tuple(_number(path, f"{key}[{i}]", v) for i, v in enumerate(value))
+
+
+def _direction(path: Path, key: str, value) -> tuple[float, ...]:
+    """An axis name (``"x"``, ``"-y"``, ...) or a 3-vector."""
+    if not isinstance(value, str):
+        return _vector(path, key, value)
+    try:
+        return SceneSpec.direction(value)
+    except ValueError as exc:
+        raise ValueError(f"{path}: {key}: {exc}") from exc
+
+
+def _each(item):
+    """A reader of a TOML list whose entries ``item`` reads, named ``key[i]`` in errors."""
+
+    def read(path: Path, key: str, value) -> tuple:
+        return tuple(item(path, f"{key}[{i}]", v) for i, v in enumerate(_items(path, key, value)))
+
+    return read
+
+
+def _table(schema: dict):
+    """A reader of a TOML table whose keys are those of ``schema`` (key -> reader)."""
+
+    def read(path: Path, key: str, value) -> dict:
+        where = f"[{key}]" if key else "the top level"
+        if not isinstance(value, dict):
+            raise ValueError(f"{path}: {where} must be a table, got {value!r}")
+        for name in value:
+            if name not in schema:
+                close = difflib.get_close_matches(name, schema, n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                raise ValueError(
+                    f"{path}: unknown key {name!r} in {where}{hint}; allowed keys: "
+                    f"{', '.join(schema)}"
+                )
+        return {
+            name: schema[name](path, f"{key}.{name}" if key else name, v)
+            for name, v in value.items()
+        }
+
+    return read
+
+
+TOML_SCHEMA = _table(
+    {
+        "name": _text,
+        "material": _table({"density": _number, "mu": _number}),
+        "supports": _table(
+            {
+                "fixed": _each(_index),
+                "fixed_below": _number,
+                "fixed_groups": _each(_text),
+                "fixed_boxes": _each(lambda path, key, box: _vector(path, key, box, size=6)),
+            }
+        ),
+        "loads": _table(
+            {
+                "gravity": _vector,
+                "live": _direction,
+                "point": _each(
+                    _table({"block": _index, "point": _vector, "force": _vector, "kind": _text})
+                ),
+            }
+        ),
+    }
+)
+"""Reader of a scene TOML (see :meth:`SceneSpec.from_toml`): refuses unknown keys and values
+of the wrong type, naming the key."""
+
+
 @dataclass(frozen=True)
 class SceneSpec:
     """Material, supports and loads of a scene read from a mesh or surface file (SI units).
@@ -327,25 +428,35 @@ class SceneSpec:
             point = [0.0, 0.0, 1.2]
             force = [0.0, 0.0, -5000.0]
             kind = "dead"
+
+        Raises
+        ------
+        ValueError
+            Invalid TOML, an unknown table or key (named, with the allowed keys), or a value
+            of the wrong type or size (named by its key, e.g. ``material.mu``).
         """
-        data = tomllib.loads(Path(path).read_text())
-        known = {"name", "material", "supports", "loads"}
-        if set(data) - known:
-            raise ValueError(f"{path}: unknown tables {sorted(set(data) - known)}; use {known}")
+        path = Path(path)
+        try:
+            document = tomllib.loads(path.read_text())
+        except tomllib.TOMLDecodeError as exc:
+            raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+        data = TOML_SCHEMA(path, "", document)
         mat, sup, loads = data.get("material", {}), data.get("supports", {}), data.get("loads", {})
-        live = loads.get("live")
-        return cls(
-            density=mat.get("density"),
-            mu=mat.get("mu"),
-            fixed=tuple(int(i) for i in sup.get("fixed", ())),
-            fixed_below=sup.get("fixed_below"),
-            fixed_groups=tuple(str(g) for g in sup.get("fixed_groups", ())),
-            fixed_boxes=tuple(tuple(float(c) for c in b) for b in sup.get("fixed_boxes", ())),
-            gravity=tuple(loads.get("gravity", (0.0, 0.0, -G))),
-            live=None if live is None else cls.direction(live),
-            point_loads=tuple(loads.get("point", ())),
-            name=data.get("name"),
-        )
+        try:
+            return cls(
+                density=mat.get("density"),
+                mu=mat.get("mu"),
+                fixed=sup.get("fixed", ()),
+                fixed_below=sup.get("fixed_below"),
+                fixed_groups=sup.get("fixed_groups", ()),
+                fixed_boxes=sup.get("fixed_boxes", ()),
+                gravity=loads.get("gravity", (0.0, 0.0, -G)),
+                live=loads.get("live"),
+                point_loads=loads.get("point", ()),
+                name=data.get("name"),
+            )
+        except ValueError as exc:
+            raise ValueError(f"{path}: {exc}") from exc
 
     def fixed_mask(self, assembly: Assembly, groups: dict | None = None) -> np.ndarray:
         """(n_blocks,) bool: the blocks this spec fixes (``groups``: name -> block ids)."""

@@ -209,7 +209,7 @@ def test_toml_point_loads_and_json_overrides(tmp_path, two_block_stack):
     with pytest.raises(ValueError, match="load direction"):
         SceneSpec.direction("w")
     (tmp_path / "bad.toml").write_text("[suports]\nfixed = [0]\n")
-    with pytest.raises(ValueError, match="unknown tables"):
+    with pytest.raises(ValueError, match=r"unknown key .suports. in the top level"):
         read_scene(path, toml=tmp_path / "bad.toml")
 
 
