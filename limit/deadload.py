@@ -34,7 +34,7 @@ from limit.certificates import Certificate
 from limit.clarabel import LimitResult, solve_static
 from limit.errors import DeadLoadInfeasibleError, LimitAnalysisError, NumericalFailureError
 from limit.matrices import equilibrium_matrix
-from limit.problems import LimitSettings, StaticProblem, build_static_problem
+from limit.problems import LimitSettings, StaticProblem, build_static_problem, checked_inputs
 
 __all__ = ["StandsResult", "stands", "unsupported_blocks", "dead_load_error", "INVOLVED"]
 
@@ -203,7 +203,7 @@ def stands(
         answer, or the capped one's answer is undecided (below one but with a dual bound that
         does not prove it).
     """
-    settings = settings or LimitSettings()
+    settings = checked_inputs(scene, settings)
     t0 = time.perf_counter()
     lonely, reason = unsupported_blocks(scene)
     if lonely.size:

@@ -47,7 +47,7 @@ from limit.errors import (
     LimitAnalysisError,
     NoMechanismError,
 )
-from limit.problems import LimitSettings, StaticProblem, build_static_problem
+from limit.problems import LimitSettings, StaticProblem, build_static_problem, checked_inputs
 from limit.solve import LimitResult, check_scene, limit_analysis, solve_static
 
 logger = logging.getLogger(__name__)
@@ -240,6 +240,7 @@ def iterative_estimate(
     IterativeEstimate
     """
     _refuse_renamed(renamed)
+    settings = checked_inputs(scene, settings)
     if not 0 < omega <= 1:
         raise ValueError(f"omega must lie in (0, 1], got {omega}")
     if not 0 < tol < 1:
@@ -248,7 +249,6 @@ def iterative_estimate(
         max_updates = default_updates(scene)
     if isinstance(max_updates, bool) or not isinstance(max_updates, int) or max_updates < 1:
         raise ValueError(f"max_updates must be an integer >= 1, got {max_updates!r}")
-    settings = settings or LimitSettings()
     t0 = time.perf_counter()
     if start is None:
         start = limit_analysis(scene, settings)
@@ -302,7 +302,7 @@ def frictionless_lower_bound(
     note : str
     """
     # the dead-load check of the caller concerns mu, not the frictionless structure
-    settings = (settings or LimitSettings()).with_(mu=0.0, dead_load_check=True)
+    settings = checked_inputs(scene, settings).with_(mu=0.0, dead_load_check=True)
     try:
         res = limit_analysis(scene, settings)
     except NoMechanismError:
@@ -481,7 +481,7 @@ def bounds_and_estimates(
         ``strict`` and an ordering issue; the error carries the Bounds as ``bounds``.
     """
     _refuse_renamed(renamed)
-    settings = settings or LimitSettings()
+    settings = checked_inputs(scene, settings)
     check_scene(scene)
     times = {}
     t = time.perf_counter()

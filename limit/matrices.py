@@ -176,7 +176,8 @@ def rocking_constraints(interfaces: Interfaces) -> tuple[sp.csr_matrix, np.ndarr
         Interface of each edge.
     """
     vi, y = interface_vertices(interfaces)
-    rows, cols, vals, hs, owner = [], [], [], [], []
+    # each list starts with an empty array: no interface gives empty outputs
+    rows, cols, vals, hs, owner = ([np.zeros(0, dtype=np.int64)] for _ in range(5))
     e = 0
     for k in range(interfaces.n_interfaces):
         poly = y[interfaces.poly_ptr[k] : interfaces.poly_ptr[k + 1]]

@@ -72,6 +72,8 @@ from limit.matrices import (
 
 __all__ = [
     "LimitSettings",
+    "checked_inputs",
+    "checked_settings",
     "StaticProblem",
     "KinematicProblem",
     "build_static_problem",
@@ -215,6 +217,22 @@ class LimitSettings:
         return {k: getattr(self, k) for k in self.__dataclass_fields__}
 
 
+def checked_settings(settings) -> LimitSettings:
+    """``settings``, or the defaults for None; a TypeError naming any other type."""
+    if settings is None:
+        return LimitSettings()
+    if not isinstance(settings, LimitSettings):
+        raise TypeError(f"settings must be a limit.LimitSettings, got {type(settings).__name__}")
+    return settings
+
+
+def checked_inputs(scene, settings) -> LimitSettings:
+    """:func:`checked_settings`, after a TypeError naming a scene that is no Scene."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a dem.scene.Scene, got {type(scene).__name__}")
+    return checked_settings(settings)
+
+
 @dataclass(eq=False)
 class StaticProblem:
     """A compiled static programme and what is needed to read its solution in SI.
@@ -320,10 +338,10 @@ def _scales(scene: Scene, free: np.ndarray, interfaces) -> tuple[float, float, n
 def _subset(finite: np.ndarray):
     """Selector of the friction cones with finite mu: the identity when all are finite (no
     index atom in the programme), an index otherwise, None when none is."""
+    if not finite.any():  # also no cone at all (a scene without interfaces)
+        return None
     if finite.all():
         return lambda e: e
-    if not finite.any():
-        return None
     idx = np.flatnonzero(finite)
     return lambda e: e[idx]
 
@@ -356,7 +374,7 @@ def build_static_problem(
     -------
     StaticProblem
     """
-    settings = settings or LimitSettings()
+    settings = checked_inputs(scene, settings)
     if friction not in _FRICTION:
         raise ValueError(f"friction must be one of {_FRICTION}, got {friction!r}")
     interfaces = scene.assembly.interfaces()
@@ -593,8 +611,10 @@ def _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1_hat,
     ``w <= sqrt(a b)`` (second-order cone) and :math:`|c| \le f_c^{1/3} w^{2/3}` (power cone).
     All in scaled units: ``c`` by ``W``, ``a, b, w`` by ``W L``, ``kappa = f_c L^2 / W``.
     """
-    sides, rot = interface_rectangles(interfaces)
     m = interfaces.n_interfaces
+    if m == 0:  # no joint to bound (and cvxpy's cones cannot be empty)
+        return
+    sides, rot = interface_rectangles(interfaces)
     kappa = settings.compressive_strength * length**2 / weight
     lu, lv = sides[:, 0] / length, sides[:, 1] / length
     # c e_u = u1 M2 - u2 M1 (scaled moments are already divided by W L)
@@ -654,7 +674,7 @@ def build_kinematic_problem(scene: Scene, settings: LimitSettings | None = None)
         For the resultant model, inscribed polygons or a compressive strength (not written
         in kinematic form here).
     """
-    settings = settings or LimitSettings()
+    settings = checked_inputs(scene, settings)
     if settings.interface_model != "vertex" or settings.friction_polygon is not None:
         raise ValueError("the kinematic programme is written for the exact vertex model only")
     if settings.compressive_strength is not None:

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from dem.scene import Scene
 from limit.deadload import StandsResult, stands
 from limit.errors import NumericalFailureError
-from limit.problems import LimitSettings
+from limit.problems import LimitSettings, checked_settings
 
 __all__ = ["GeometricSafetyResult", "geometric_safety_factor"]
 
@@ -117,7 +117,7 @@ def geometric_safety_factor(
         raise ValueError(f"rtol must lie in (0, 1), got {rtol}")
     if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
         raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
-    settings = settings or LimitSettings()
+    settings = checked_settings(settings)
     t0 = time.perf_counter()
     at_lo, at_hi = _check(build, lo, settings), _check(build, hi, settings)
     history = [(lo, at_lo.stands), (hi, at_hi.stands)]

@@ -16,6 +16,10 @@ equilibrium at ``lambda = 0``), naming the blocks and interfaces of the dead-loa
 (:mod:`limit.deadload`); :class:`~limit.errors.NoMechanismError` when the live load is carried
 for every multiplier; :class:`~limit.errors.NumericalFailureError` when no solve passes its
 certificate (status map and retries: :mod:`limit.clarabel`).
+
+A scene without interfaces is no special case: its free blocks are held by their restrained
+dofs alone, so a live load on a free dof gives ``lambda = 0`` (the mechanism moves that dof)
+and a dead load on one a :class:`~limit.errors.DeadLoadInfeasibleError`.
 """
 
 from __future__ import annotations
@@ -48,7 +52,12 @@ from limit.matrices import (
     interface_vertices,
     vertex_force_matrix,
 )
-from limit.problems import LimitSettings, build_kinematic_problem, build_static_problem
+from limit.problems import (
+    LimitSettings,
+    build_kinematic_problem,
+    build_static_problem,
+    checked_inputs,
+)
 
 __all__ = [
     "ACCEPTED",
@@ -107,6 +116,8 @@ def limit_analysis(
 
     Raises
     ------
+    TypeError
+        ``scene`` is no Scene or ``settings`` no LimitSettings (as at every entry point).
     DeadLoadInfeasibleError
         The structure falls down by itself, even if some live load would prop it
         (``settings.dead_load_check``); ``blocks`` and ``interfaces`` name its dead-load
@@ -116,7 +127,7 @@ def limit_analysis(
     NumericalFailureError
         No certified optimum after the retries of :func:`limit.clarabel.solve_static`.
     """
-    settings = settings or LimitSettings()
+    settings = checked_inputs(scene, settings)
     check_scene(scene)
     t0 = time.perf_counter()
     sp_ = build_static_problem(scene, settings)
@@ -152,7 +163,7 @@ def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> t
     NumericalFailureError
         Still inaccurate after a solve with tighter tolerances.
     """
-    settings = settings or LimitSettings()
+    settings = checked_inputs(scene, settings)
     check_scene(scene)
     kp = build_kinematic_problem(scene, settings)
     status, _ = run_clarabel(kp.problem, settings)

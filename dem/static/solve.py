@@ -62,6 +62,10 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     settings = StaticSettings() if settings is None else settings
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a dem.scene.Scene, got {type(scene).__name__}")
+    if not isinstance(settings, StaticSettings):
+        raise TypeError(
+            f"settings must be a dem.static.StaticSettings, got {type(settings).__name__}"
+        )
     model = Model(scene, settings)
     corrector = Corrector(model, settings)
     dead, n_iter = solve_dead_load(corrector)

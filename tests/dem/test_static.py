@@ -6,6 +6,7 @@ import pytest
 from dem.scene import Scene, Supports, proportional_to_weight
 from dem.scenes.running_bond_wall import running_bond_wall
 from dem.static import StaticSettings, StaticSolverError, solve_collapse
+from limit import LimitSettings
 
 MODELS = ("resultant", "fibre")
 # The rigid-block collapse loads below are limits of elastic joints: the fibre law (its outer
@@ -194,6 +195,8 @@ def test_bad_inputs():
         solve_collapse(no_mu)
     with pytest.raises(TypeError, match="Scene"):
         solve_collapse("not a scene")
+    with pytest.raises(TypeError, match="StaticSettings, got LimitSettings"):
+        solve_collapse(scene, LimitSettings())
 
 
 def test_dead_load_mechanism_is_reported():
