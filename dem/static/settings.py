@@ -95,7 +95,15 @@ class FibreLawSettings:
         Gauss-Lobatto points per side of a rectangular interface: the outer springs lie on
         the edges, so rocking about an edge is exact. Twisting and partly open joints are
         only as exact as the grid: rerun a result with more points to see how far it moves
-        (``masonry-restrepo`` records that check for every fibre-law row).
+        (``masonry-restrepo`` records that check for every fibre-law row). So is a crushed
+        zone (``compressive_strength``): its springs act at their points, the outer ones on
+        the edge, so the crushed part's lever is too long by up to half an edge cell. On a
+        0.4 x 1 m block tipping, 3 points exceeded the exact (and limit-analysis) multiplier
+        by 10.9 % (the edge row alone carried the weight uncrushed), 5 points by 1.9 % or
+        fell 8 % short, 10 points came within 1.2 %; the resultant law integrates the capped
+        stress exactly. Other convex polygons get springs at the centres of a finer square
+        grid (none on the edges): rocking comes out low by about half a cell (5 %, 2.5 %,
+        1.2 % on a hexagon at 5, 10, 20 points).
     tangent_floor : float
         As for the resultant law. The fibre law, whose yielded springs are only a part of each
         joint, converges best near the consistent tangent (1e-9).
@@ -165,7 +173,8 @@ class StaticSettings:
         [Pa]; None: ``mu * tensile_strength`` (seed 001, Sec. 2.1).
     compressive_strength : float or None
         Joint compressive strength f_c [Pa], both laws; None for unlimited. Without it,
-        arching between rigid supports can grow without bound.
+        arching between rigid supports can grow without bound. The fibre law resolves the
+        crushed zone only as finely as its grid (:class:`FibreLawSettings`, ``points``).
     tension_at_supports : bool
         Whether interfaces with a fixed block get the tensile strength and cohesion (False
         models a support as a dry hinge).
