@@ -15,6 +15,12 @@ admissible equilibrium exists, and the equilibrium duals are a mechanism on whic
 does positive work (the Farkas certificate of the infeasible programme, seed 001, Sec. 2 by
 duality). Its fastest blocks and the interfaces that open or slide most are named.
 
+A yes proves that an admissible equilibrium exists, in the associated sense of the limit
+analysis. For dry, non-dilatant joints that is necessary, not sufficient: the equilibrium may
+rest on clamping forces that nothing supplies. A block fitted exactly between two walls,
+pressed by nothing, stands by this check (friction on clamping forces of any size), while both
+static DEM laws, which load its joints from zero, find it sliding down (``DeadLoadError``).
+
 When the capped programme fails numerically, the check solves the full dead load as a
 feasibility programme (the multiplier fixed at one), whose equilibrium is certified by its
 primal residuals alone: there is nothing to optimise. Only a "yes" comes from it; without the
@@ -53,7 +59,8 @@ class StandsResult:
     Attributes
     ----------
     stands : bool
-        The dead load has an admissible equilibrium.
+        The dead load has an admissible equilibrium (associated; not sufficient for dry
+        friction without clamping, see the module notes).
     load_factor : float
         :math:`\rho^*`: the largest fraction of the dead load that has an admissible
         equilibrium, capped at 1 [-].
