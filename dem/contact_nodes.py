@@ -44,6 +44,8 @@ FACE_ANGLE_DEG = 20.0
 MIN_TOUCH_FRACTION = 0.05
 """Faces touch when the part of their overlap within the margin is at least this fraction of the
 smaller face (pinwheel corners of diagonal TIS neighbours meet along a line only)."""
+MAX_GRID_CELLS = 5_000_000
+"""Most grid cells seeded on one face (about 1 GB of scratch arrays); more is refused."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,7 +110,11 @@ def _face_frame(polygon: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np
 
 
 def seed_face(
-    polygon: np.ndarray, normal: np.ndarray, spacing: float, layout: str = "centroid"
+    polygon: np.ndarray,
+    normal: np.ndarray,
+    spacing: float,
+    layout: str = "centroid",
+    window: tuple[np.ndarray, float] | None = None,
 ) -> tuple[np.ndarray, ...]:
     """Nodes and tributary areas on one convex planar face.
 
@@ -126,13 +132,24 @@ def seed_face(
         of the clipped cells, each corner taking an equal share of every cell it belongs to
         (trapezoidal rule on full cells: ``h^2`` inside, ``h^2 / 2`` on edges, ``h^2 / 4`` at
         corners); nodes then lie on the face's edges.
+    window : ((3,) float, float), optional
+        ``(centre, half_width)`` [m]: seed only the cells of the whole face's grid that meet
+        the square of that half-width about ``centre`` (a point on the face's plane), sides
+        along the face's axes. The grid and the cells are those of the whole face, so the nodes
+        are a subset of the whole face's (a vertex-layout node keeps its whole area when every
+        cell around it meets the square).
 
     Returns
     -------
     points : (m, 3) float
         Node positions [m].
     areas : (m,) float
-        Their areas [m^2]; they sum to the face area.
+        Their areas [m^2]; without ``window`` they sum to the face area.
+
+    Raises
+    ------
+    ValueError
+        A spacing that is not positive and finite, or more than ``MAX_GRID_CELLS`` cells.
     """
     if not spacing > 0 or not math.isfinite(spacing):
         raise ValueError(f"node spacing must be positive and finite, got {spacing}")
@@ -144,7 +161,23 @@ def seed_face(
     n_v = max(1, math.ceil((hi[1] - lo[1]) / spacing - 1e-9))
     # centre the grid on the face's bounding box so that the edge cells are symmetric
     start = 0.5 * (lo + hi) - 0.5 * spacing * np.array([n_u, n_v])
-    iu, iv = np.meshgrid(np.arange(n_u), np.arange(n_v), indexing="ij")
+    first, stop = np.zeros(2, dtype=np.int64), np.array([n_u, n_v], dtype=np.int64)
+    if window is not None:
+        centre, half = window
+        c2 = np.array([(centre - origin) @ u, (centre - origin) @ v])
+        # cells meeting the square, plus one on each side against round-off
+        first = np.maximum(first, np.floor((c2 - half - start) / spacing).astype(np.int64) - 1)
+        stop = np.minimum(stop, np.ceil((c2 + half - start) / spacing).astype(np.int64) + 1)
+    n_cells = int(np.prod(np.maximum(stop - first, 0)))
+    if n_cells > MAX_GRID_CELLS:
+        raise ValueError(
+            f"node spacing {spacing:.3g} m gives {n_cells:.3g} grid cells on a face of "
+            f"{hi[0] - lo[0]:.3g} m x {hi[1] - lo[1]:.3g} m (at most {MAX_GRID_CELLS:.0e}): "
+            "raise the node spacing"
+        )
+    if n_cells == 0:
+        return np.zeros((0, 3)), np.zeros(0)
+    iu, iv = np.meshgrid(np.arange(first[0], stop[0]), np.arange(first[1], stop[1]), indexing="ij")
     c0 = start[0] + iu.ravel() * spacing
     c1 = start[1] + iv.ravel() * spacing
     corners = np.stack(
@@ -157,11 +190,14 @@ def seed_face(
         axis=1,
     )  # (cells, 4, 2), counter-clockwise
     edge = np.roll(poly2, -1, axis=0) - poly2
-    # inside of every edge of the CCW polygon: cross(edge, p - start) >= 0
-    rel = corners[:, :, None, :] - poly2[None, None, :, :]
-    side = edge[None, None, :, 0] * rel[..., 1] - edge[None, None, :, 1] * rel[..., 0]
     scale = spacing * np.linalg.norm(edge, axis=1)
-    inside_all = np.all(side >= -1e-12 * scale, axis=(1, 2))
+    # inside of every edge of the CCW polygon: cross(edge, p - start) >= 0 (one edge at a
+    # time: scratch of (cells, 4), not (cells, 4, edges))
+    inside_all = np.ones(len(c0), dtype=bool)
+    for k in range(len(poly2)):
+        rel = corners - poly2[k]
+        side = edge[k, 0] * rel[..., 1] - edge[k, 1] * rel[..., 0]
+        inside_all &= np.all(side >= -1e-12 * scale[k], axis=1)
     cells: list[np.ndarray] = [corners[k] for k in np.flatnonzero(inside_all)]
     if layout == "centroid":
         pts2 = [np.column_stack([c0[inside_all] + 0.5 * spacing, c1[inside_all] + 0.5 * spacing])]
@@ -183,6 +219,8 @@ def seed_face(
         return points, np.concatenate(areas)
     if layout != "vertex":
         raise ValueError(f"layout must be 'vertex' or 'centroid', got {layout!r}")
+    if not cells:  # a window that misses the face
+        return np.zeros((0, 3)), np.zeros(0)
     corner_pts = np.concatenate(cells)
     shares = np.concatenate([np.full(len(c), polygon_properties(c)[0] / len(c)) for c in cells])
     # merge coincident corners of neighbouring cells
@@ -287,6 +325,13 @@ def seed_contact_nodes(
     Returns
     -------
     ContactNodes
+
+    Raises
+    ------
+    ValueError
+        Bad ``fixed`` or ``margin``, a contact face with nodes on one point or one row, or a
+        face grid of more than ``MAX_GRID_CELLS`` cells (only the cells within the indenter's
+        reach count on faces under it).
     """
     n_blocks = assembly.n_blocks
     fixed = np.asarray(fixed, dtype=bool)
@@ -349,7 +394,12 @@ def seed_contact_nodes(
                 poly = blk.vertices[blk.faces[f]]
                 if _polygon_xy_distance(poly[:, :2], axis) > reach:
                     continue
-                pts, areas = seed_face(poly, normal, h_ind, layout)
+                # a kept node lies within reach + h of the axis in plan, so within
+                # (reach + h) / n_z, in the face's plane, of the plane's point above the axis:
+                # seed only the cells about that point (memory as the nodes kept)
+                above = np.append(axis, poly[0, 2] + normal[:2] @ (poly[0, :2] - axis) / normal[2])
+                window = (above, (reach + h_ind) / normal[2])
+                pts, areas = seed_face(poly, normal, h_ind, layout, window)
                 keep = np.linalg.norm(pts[:, :2] - axis, axis=1) <= reach + h_ind
                 ind_b.append(np.full(int(keep.sum()), i, dtype=np.int64))
                 ind_p.append(pts[keep])

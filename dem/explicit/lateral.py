@@ -43,7 +43,7 @@ from typing import Protocol
 
 import numpy as np
 
-from dem.explicit.model import ExplicitModel
+from dem.explicit.model import ExplicitModel, require_free_block
 from dem.explicit.results import LateralResult
 from dem.explicit.settings import ExplicitSettings, RelaxationSettings
 from dem.explicit.stiffness import masonry_settings
@@ -159,6 +159,12 @@ class TiltingTable(_Schedule):
 
     def wrench(self, scene: Scene, lam: float) -> np.ndarray:
         g = float(np.linalg.norm(scene.loads.gravity))
+        if g == 0.0:
+            raise ValueError(
+                f"TiltingTable: scene {scene.name!r} has no gravity (loads.gravity = 0): a "
+                "tilting table turns gravity; give the scene gravity, or a live load and "
+                "LiveLoadRamp"
+            )
         theta = math.atan(lam)
         gravity = g * (math.sin(theta) * self.unit_direction(scene) - math.cos(theta) * _EZ)
         return weight_wrench(scene.assembly, gravity) + scene.loads.dead_wrench
@@ -228,15 +234,21 @@ def simulate_lateral(
 
     Raises
     ------
+    ValueError
+        Every block fixed, or a scene the driver cannot load (``TiltingTable`` without
+        gravity, ``LiveLoadRamp`` without a live load).
     SimulationError
         A block or group of blocks has no support (named), or the run blew up.
     """
     wall0 = time.perf_counter()
-    settings = settings or masonry_settings(scene)
     driver = driver or TiltingTable()
+    # refuse a scene with nothing to move or that the driver cannot load before building a model
+    require_free_block(scene)
+    wrench0 = driver.wrench(scene, 0.0)
+    settings = settings or masonry_settings(scene)
     relaxation = relaxation or RelaxationSettings(max_steps=400000)
     model = ExplicitModel(scene, settings)
-    model.set_external_wrench(driver.wrench(scene, 0.0))
+    model.set_external_wrench(wrench0)
     relax_info = model.relax(relaxation)
     run = _RampHold(model, driver, scene)
     outcome = run.to_collapse()

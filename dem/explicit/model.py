@@ -96,7 +96,8 @@ class ExplicitModel:
         Blocks interpenetrate in the input (the toolkit's geometric check,
         :func:`dem.geometry.interfaces.find_interfaces`, which names the pairs and depths).
     ValueError
-        A forced time step above the stable limit, bad settings, or NaN in the scene.
+        A forced time step above the stable limit, bad settings, NaN in the scene, or every
+        block fixed.
     """
 
     def __init__(
@@ -107,6 +108,7 @@ class ExplicitModel:
         indenter_radius: float = 0.0,
         indenter_axis_xy: np.ndarray | None = None,
     ):
+        require_free_block(scene)
         self.scene = scene
         self.settings = settings
         asm = scene.assembly
@@ -756,6 +758,14 @@ def _dynamic_schedule(active: bool):
         yield
     finally:
         numba.set_parallel_chunksize(previous)
+
+
+def require_free_block(scene: Scene) -> None:
+    """Refuse a scene whose blocks are all fixed (``ValueError``)."""
+    if np.all(scene.supports.fixed):
+        raise ValueError(
+            f"every block of scene {scene.name!r} is fixed (Supports.fixed): nothing to simulate"
+        )
 
 
 def _bodies(scene: Scene, settings: ExplicitSettings) -> Bodies:

@@ -136,8 +136,11 @@ class ExplicitSettings:
                 raise ValueError(f"{name} must be finite and >= 0, got {value}")
         if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"dt must be finite and positive [s], got {self.dt}")
-        if self.indenter_node_spacing is not None and not self.indenter_node_spacing > 0:
-            raise ValueError("indenter_node_spacing must be positive [m]")
+        spacing = self.indenter_node_spacing
+        if spacing is not None and not (math.isfinite(spacing) and spacing > 0):
+            raise ValueError(
+                f"indenter_node_spacing must be finite and positive [m], got {spacing}"
+            )
         if self.mu is not None and not self.mu >= 0:
             raise ValueError(f"mu must be >= 0 (inf: no sliding), got {self.mu}")
         if self.mu_rule not in ("mean", "min"):
@@ -209,8 +212,11 @@ class RelaxationSettings:
     unbalanced_tol: float = 1e-2
 
     def __post_init__(self):
-        if not self.ke_speed > 0:
-            raise ValueError(f"ke_speed must be positive [m/s], got {self.ke_speed}")
+        if not (math.isfinite(self.ke_speed) and self.ke_speed > 0):
+            raise ValueError(
+                f"RelaxationSettings.ke_speed must be finite and positive [m/s], got "
+                f"{self.ke_speed}"
+            )
         for name in ("min_steps", "max_steps"):
             value = getattr(self, name)
             if int(value) != value or value < (1 if name == "max_steps" else 0):

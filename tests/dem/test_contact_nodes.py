@@ -2,6 +2,7 @@
 
 import logging
 import math
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from dem.geometry.polyhedron import convex_block
 from dem.kernels.broadphase import carry_history
 from dem.kernels.contact_force import traction_one
 from dem.kernels.signed_distance import convex_sdf_many, level_set_sdf_one
+from dem.scene import Scene
 from dem.scenes import stack
 from dem.scenes.tis_panel import tis_interface_area, tis_panel
 from dem.units import MM
@@ -179,3 +181,39 @@ def test_a_contact_face_with_a_single_node_is_refused():
     settings = masonry_settings(scene, node_spacing=0.2, node_layout="centroid")
     with pytest.raises(ValueError, match="block 0 face .* hinge .*node_layout='vertex'"):
         ExplicitModel(scene, settings)
+
+
+def test_indenter_nodes_seeded_near_the_axis_only():
+    """A 0.1 m square top face under a 1 mm tip with 0.1 mm indenter spacing: the whole face
+    would be 10^6 grid cells (hundreds of MB of scratch); seeding only about the axis keeps
+    memory to a few MB. The nodes are the centres ``((i + 1/2) h, (j + 1/2) h)`` of the face's
+    grid within ``R + margin + h`` of the axis (count by brute force), each of area ``h^2``."""
+    side, tip, margin, h = 0.1, 1e-3, 1e-4, 1e-4
+    corners = [[x, y, z] for x in (0.0, side) for y in (0.0, side) for z in (0.0, 0.02)]
+    scene = Scene.from_convex_blocks([np.array(corners)], 2000.0)
+    axis = np.array([0.05012, 0.05037])
+    centres = (np.arange(round(side / h)) + 0.5) * h
+    dist = np.hypot(centres[:, None] - axis[0], centres[None, :] - axis[1])
+    expected = int(np.count_nonzero(dist <= tip + margin + h))
+
+    def seed():
+        return seed_contact_nodes(scene.assembly, [False], 0.01, margin, axis, tip, h)
+
+    seed()  # compile the clipping kernel outside the measurement
+    tracemalloc.start()
+    try:
+        nodes = seed()
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert len(nodes.indenter_area) == expected
+    np.testing.assert_allclose(nodes.indenter_area, h * h, rtol=1e-9)
+    assert peak < 5e6  # [bytes]; the whole face's grid needs over 200 MB
+
+
+def test_a_face_grid_beyond_the_cell_limit_is_refused():
+    """A 0.1 m square at 10 um spacing is 10^8 cells (> MAX_GRID_CELLS): refused up front,
+    naming the count and the spacing, rather than exhausting memory."""
+    square = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.1, 0.1, 0.0], [0.0, 0.1, 0.0]])
+    with pytest.raises(ValueError, match=r"node spacing 1e-05 m gives 1e\+08 grid cells"):
+        seed_face(square, np.array([0.0, 0.0, 1.0]), 1e-5)

@@ -1,5 +1,7 @@
 """Bad input gets an error naming what is wrong: settings, unsupported blocks, indenter axis."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -9,7 +11,9 @@ from dem.explicit import (
     IndentationSettings,
     RelaxationSettings,
     SimulationError,
+    TiltingTable,
     simulate_indentation,
+    simulate_lateral,
 )
 from dem.scene import Scene
 
@@ -44,6 +48,11 @@ def ground():
         (lambda: IndentationSettings(ultimate_fraction=0.0), "ultimate_fraction"),
         (lambda: IndentationSettings(axis_xy=(0.0, float("nan"))), "axis_xy"),
         (lambda: IndentationSettings(speed=0.0), "speed"),
+        (
+            lambda: ExplicitSettings(k_n=1e9, indenter_node_spacing=math.inf),
+            "indenter_node_spacing",
+        ),
+        (lambda: RelaxationSettings(ke_speed=math.inf), "ke_speed"),
     ],
 )
 def test_nonsense_settings_name_the_parameter(make, name):
@@ -92,3 +101,29 @@ def test_relaxation_failure_names_the_block_that_keeps_moving():
         model.relax(RelaxationSettings(min_steps=0, max_steps=4000))
     fastest = str(info.value).split("fastest: ")[1]
     assert fastest.startswith("block 1 at") and "block 0 at" in fastest
+
+
+def test_every_block_fixed_is_refused_as_such():
+    """A cube fixed on a fixed ground has nothing to move: the model and the lateral driver
+    say so (not "no contact stiffness" nor "no interface with a free block")."""
+    scene = Scene.from_convex_blocks([cube(0, 0, 0), ground()], 2500.0, fixed=[0, 1], mu=0.5)
+    settings = ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4)
+    with pytest.raises(ValueError, match="every block .* is fixed"):
+        ExplicitModel(scene, settings)
+    with pytest.raises(ValueError, match="every block .* is fixed"):
+        simulate_lateral(scene)
+
+
+def test_a_scene_without_touching_faces_still_asks_for_dt():
+    """A free cube 5 mm above a fixed ground has no contact stiffness: give dt."""
+    scene = Scene.from_convex_blocks([cube(0, 0, 0.005), ground()], 2500.0, fixed=[1], mu=0.5)
+    with pytest.raises(ValueError, match="no contact stiffness.*ExplicitSettings.dt"):
+        ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4))
+
+
+def test_tilting_table_without_gravity_is_refused():
+    """A tilting table turns gravity: with g = 0 there is nothing to turn (it used to report
+    collapsed=False)."""
+    scene = Scene.from_convex_blocks([cube(0, 0, 0), ground()], 2500.0, fixed=[1], mu=0.5, g=0.0)
+    with pytest.raises(ValueError, match="TiltingTable.*no gravity"):
+        simulate_lateral(scene, ExplicitSettings(k_n=1e10, node_spacing=SIDE / 4), TiltingTable())
