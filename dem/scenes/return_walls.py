@@ -36,6 +36,7 @@ from dem.scene import Assembly, Loads, Scene, Supports, check_finite, proportion
 from dem.scenes.running_bond_wall import (
     beam_load_wrench,
     box_corners,
+    check_sides,
     check_wall_numbers,
     cut_openings,
     parse_openings,
@@ -103,8 +104,8 @@ def wall_with_returns(
         )
     if nr != return_blocks or nr < 1:
         raise ValueError(f"return_blocks must be a positive integer, got {return_blocks}")
-    bad = set(returns) - set(SIDES)
-    if bad or not returns:
+    check_sides("returns", returns, SIDES)
+    if not returns:
         raise ValueError(f"returns must be a non-empty subset of {SIDES}, got {list(returns)}")
     a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
     if s >= b:

@@ -26,6 +26,18 @@ from dem.scene import (
 from dem.units import KN, KN_M3, MM, G
 
 SIDES = ("bottom", "top", "left", "right")
+
+
+def check_sides(name: str, value, allowed: tuple[str, ...]) -> None:
+    """Refuse ``value`` unless it is a collection of names from ``allowed`` (not one string:
+    ``"left"`` is no collection of sides)."""
+    if isinstance(value, str):
+        raise ValueError(f"{name} must be a collection of sides, e.g. ({value!r},); got {value!r}")
+    bad = sorted(set(value) - set(allowed))
+    if bad:
+        raise ValueError(f"{name} must be a subset of {allowed}, got {bad}")
+
+
 LIVE_LOADS = ("weight", "pressure", "none")
 OUT_OF_PLANE = 1  # index of uy among the block dofs
 
@@ -206,12 +218,8 @@ def running_bond_wall(
         raise ValueError(
             f"n_per_course and n_courses must be positive integers, got {n_per_course}, {n_courses}"
         )
-    bad = set(fixed_columns) - {"left", "right"}
-    if bad:
-        raise ValueError(f"fixed_columns must be a subset of ('left', 'right'), got {sorted(bad)}")
-    bad = set(simply_supported) - set(SIDES)
-    if bad:
-        raise ValueError(f"simply_supported must be a subset of {SIDES}, got {sorted(bad)}")
+    check_sides("fixed_columns", fixed_columns, ("left", "right"))
+    check_sides("simply_supported", simply_supported, SIDES)
     if live not in LIVE_LOADS:
         raise ValueError(f"live must be one of {LIVE_LOADS}, got {live!r}")
 

@@ -80,6 +80,11 @@ def test_beam_load_is_a_dead_force_on_the_top_block():
         ({"unit_weight_kn_m3": np.nan}, "unit_weight_kn_m3"),
         ({"fixed_columns": ["top"]}, "fixed_columns"),
         ({"simply_supported": ["front"]}, "simply_supported"),
+        (
+            {"fixed_columns": "left"},
+            r"fixed_columns must be a collection of sides, e\.g\. \('left',\)",
+        ),
+        ({"simply_supported": "top"}, "simply_supported must be a collection"),
         ({"live": "wind"}, "live"),
         ({"openings_mm": [(100.0, 150.0, 300.0, 300.0)]}, "bed joint"),
         ({"openings_mm": [(100.0, 100.0, 9000.0, 300.0)]}, "not inside"),
