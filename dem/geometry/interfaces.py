@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dem.geometry.clipping import clip_convex_polygons, polygon_properties
-from dem.geometry.polyhedron import ConvexBlock, penetration_depth, plane_basis
+from dem.geometry.polyhedron import ROUNDOFF, ConvexBlock, penetration_depth, plane_basis
 
 logger = logging.getLogger(__name__)
 
@@ -184,7 +184,9 @@ def find_interfaces(
         Tolerance relative to the median block size: faces closer than this to a common plane
         are coplanar, polygons of smaller area than ``(rel_tol * size)^2`` are dropped,
         interpenetration deeper than this is an error. The tolerance is at most
-        :data:`THIN_FRACTION` times the thickness of the thinnest block.
+        :data:`THIN_FRACTION` times the thickness of the thinnest block, and at least the
+        resolution ``ROUNDOFF * max |x|`` of the coordinates
+        (:data:`dem.geometry.polyhedron.ROUNDOFF`).
     check_overlaps : bool
         Test every candidate pair for interpenetration (separating axis theorem).
 
@@ -201,8 +203,10 @@ def find_interfaces(
     # A gap thinner than the tolerance counts as contact: a gap that may hold a thin block
     # (here or between any other pair) must not, so the thinnest block caps the tolerance.
     thinnest = min(b.thickness for b in blocks)
-    tol = min(rel_tol * size, THIN_FRACTION * thinnest)
     lo, hi = bounding_boxes(blocks)
+    # but no tolerance is finer than the coordinates themselves far from the origin
+    resolution = ROUNDOFF * float(max(np.abs(lo).max(), np.abs(hi).max()))
+    tol = max(min(rel_tol * size, THIN_FRACTION * thinnest), resolution)
     pairs = candidate_pairs(lo, hi, tol)
 
     rows: list[tuple] = []
@@ -216,7 +220,12 @@ def find_interfaces(
                 overlaps.append((int(i), int(j), depth))
                 continue
         dots = a.normals @ b.normals.T
-        gap = np.abs(a.offsets[:, None] + b.offsets[None, :])
+        # plane offsets about a point of the pair: measured from the global origin, a normal
+        # off by round-off (1e-9) moves a plane at 4e6 m by millimetres
+        local = a.centroid
+        gap = np.abs(
+            (a.offsets - a.normals @ local)[:, None] + (b.offsets - b.normals @ local)[None, :]
+        )
         found = len(rows)
         for fa, fb in zip(*np.nonzero((dots < -1.0 + rel_tol) & (gap < tol)), strict=True):
             row = _face_pair_interface(a, b, fa, fb, tol)
@@ -236,7 +245,10 @@ def _face_pair_interface(
     """Polygon, area, centroid, frame and second moments of face ``fa`` of a against ``fb`` of b."""
     n = a.normals[fa]
     t1, t2 = plane_basis(n)
-    origin = a.offsets[fa] * n
+    # in-plane coordinates about a's face centre, projected on the plane (not about the
+    # foot of the normal from the global origin: they would be as large as the coordinates)
+    centre = a.vertices[a.faces[fa]].mean(axis=0)
+    origin = centre - (centre @ n - a.offsets[fa]) * n
     basis = np.stack([t1, t2])
     poly_a = (a.vertices[a.faces[fa]] - origin) @ basis.T
     # b's face is counter-clockwise about -n, hence clockwise in a's basis: reverse it.
@@ -270,8 +282,14 @@ def _rectangle_turn(poly: np.ndarray, area: float, rel_tol: float = 1e-6) -> np.
     if abs(size[0] * size[1] - area) <= rel_tol * area:
         return None  # along the axes already, or no rectangle
     edge = np.roll(poly, -1, axis=0) - poly
-    u = edge[np.argmax(np.hypot(edge[:, 0], edge[:, 1]))]
-    u = u / np.hypot(u[0], u[1])
+    length = np.hypot(edge[:, 0], edge[:, 1])
+    # t1 along a longest side; of the sides equally long (the two opposite ones, or all four
+    # of a square) the one nearest the old t1, pointing along it, so that round-off (the
+    # scene's placement) does not pick the frame
+    longest = length >= (1.0 - rel_tol) * length.max()
+    sides = edge[longest] / length[longest, None]
+    u = sides[np.argmax(np.abs(sides[:, 0]))]
+    u = u if u[0] > 0 else -u
     turn = np.array([[u[0], u[1]], [-u[1], u[0]]])  # rows: the new t1, t2 in (t1, t2)
     side = np.ptp(poly @ turn.T, axis=0)
     return turn if abs(side[0] * side[1] - area) <= rel_tol * area else None

@@ -3,6 +3,10 @@
 A block is the convex hull of its vertices. Coplanar hull triangles are merged into one planar
 polygon per face, ordered counter-clockwise seen from outside, so that every face carries its
 outward unit normal ``n`` and plane offset ``d`` (points ``x`` of the face satisfy ``n . x = d``).
+
+The hull and the face planes are computed about a local origin (the vertex mean), so a block far
+from the origin (national-grid coordinates, ``x ~ 4e6 m``) gets the faces and mass properties it
+has at the origin: products of large coordinates would lose the digits that separate its corners.
 """
 
 from __future__ import annotations
@@ -19,6 +23,24 @@ PLANE_TOL = 1e-9
 """Distance tolerance for a point on a face plane, relative to the block size."""
 VOLUME_TOL = 1e-12
 """Smallest volume accepted, relative to the cube of the block size."""
+ROUNDOFF = 64 * np.finfo(np.float64).eps
+"""Coordinates ``x`` are known to ``ROUNDOFF * max |x|`` (a few float64 spacings): distance
+tolerances never go below this, or the corners of a face far from the origin (rounded to
+~5e-10 m at 4e6 m) would no longer lie on a common plane."""
+
+
+def plane_tolerance(points: np.ndarray, size: float) -> float:
+    """Distance within which a point lies on a plane [m].
+
+    ``PLANE_TOL * size`` for a block of bounding-box diagonal ``size`` [m], but at least the
+    resolution ``ROUNDOFF * max |x|`` of the coordinates ``points`` (n, 3) [m].
+    """
+    return max(PLANE_TOL * size, ROUNDOFF * float(np.max(np.abs(points))))
+
+
+class DegenerateFaceError(ValueError):
+    """A face of a block has fewer than 3 corners on its plane: the hull's facets could not be
+    merged into planar faces within the tolerance."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,6 +131,8 @@ def convex_block(points: np.ndarray, *, exact: bool = False) -> ConvexBlock:
     ValueError
         Fewer than 4 points, NaN or inf, all points coplanar, (near) zero volume, or, with
         ``exact``, points not in convex position.
+    DegenerateFaceError
+        A face with fewer than 3 corners (a ValueError).
     """
     pts = np.asarray(points, dtype=np.float64)
     if pts.ndim != 2 or pts.shape[1] != 3:
@@ -120,13 +144,16 @@ def convex_block(points: np.ndarray, *, exact: bool = False) -> ConvexBlock:
     size = float(np.linalg.norm(np.ptp(pts, axis=0)))
     if size == 0.0:
         raise ValueError("block vertices are all the same point (zero volume)")
+    # Everything below works on coordinates about a local origin (module notes); the
+    # differences of nearby large coordinates are exact.
+    origin = pts.mean(axis=0)
+    local = pts - origin
     # Coplanarity test before qhull, which would otherwise fail with an opaque message.
-    centred = pts - pts.mean(axis=0)
-    singular = np.linalg.svd(centred, compute_uv=False)
+    singular = np.linalg.svd(local, compute_uv=False)
     if singular[2] <= PLANE_TOL * singular[0]:
         raise ValueError("block vertices are coplanar (zero volume)")
     try:
-        hull = ConvexHull(pts)
+        hull = ConvexHull(local)
     except QhullError as exc:
         raise ValueError(f"convex hull of the block vertices failed: {exc}") from exc
     if hull.volume <= VOLUME_TOL * size**3:
@@ -139,23 +166,54 @@ def convex_block(points: np.ndarray, *, exact: bool = False) -> ConvexBlock:
         )
 
     corner_ids = np.sort(hull.vertices)
+    normals, offsets, faces = _merge_coplanar_facets(
+        hull.equations, local[hull.simplices], local[corner_ids], plane_tolerance(pts, size)
+    )
     vertices = pts[corner_ids]
-    normals, offsets, faces = _merge_coplanar_facets(hull.equations, vertices, PLANE_TOL * size)
     volume, centroid, inertia = mass_properties(vertices, faces)
-    return ConvexBlock(vertices, faces, normals, offsets, volume, centroid, inertia)
+    return ConvexBlock(
+        vertices, faces, normals, offsets + normals @ origin, volume, centroid, inertia
+    )
 
 
 def _merge_coplanar_facets(
-    equations: np.ndarray, vertices: np.ndarray, tol: float
+    equations: np.ndarray, triangles: np.ndarray, vertices: np.ndarray, tol: float
 ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
-    """Group qhull facets (``n . x + c = 0``) into planar faces with ordered vertices."""
+    """Group qhull facets into planar faces with ordered vertices.
+
+    Parameters
+    ----------
+    equations : (n_facets, 4) float
+        qhull facet planes ``n . x + c = 0``.
+    triangles : (n_facets, 3, 3) float
+        Corners of each facet [m].
+    vertices : (n_vert, 3) float
+        Hull corners [m].
+    tol : float
+        A corner within ``tol`` of a plane lies on it [m].
+
+    Returns
+    -------
+    normals (n_faces, 3), offsets (n_faces,) [m], faces (tuple of (k_f,) int arrays).
+
+    Raises
+    ------
+    DegenerateFaceError
+        A face with fewer than 3 corners within ``tol`` of its plane.
+    """
+    # qhull splits a planar face into triangles with (nearly) the same plane; a facet whose
+    # corners all lie on the plane of a face already kept adds nothing. Largest facets first,
+    # so that a sliver along an edge never becomes a face of its own.
+    area = np.linalg.norm(
+        np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]), axis=1
+    )
     normals: list[np.ndarray] = []
     offsets: list[float] = []
-    for eq in equations:
-        n, d = eq[:3] / np.linalg.norm(eq[:3]), -eq[3] / np.linalg.norm(eq[:3])
-        # qhull splits a planar face into triangles with (nearly) equal planes: keep one.
+    for k in np.argsort(-area, kind="stable"):
+        scale = np.linalg.norm(equations[k, :3])
+        n, d = equations[k, :3] / scale, -equations[k, 3] / scale
         if any(
-            abs(d - dk) < tol and np.dot(n, nk) > 1 - 1e-9
+            np.all(np.abs(triangles[k] @ nk - dk) < tol)
             for nk, dk in zip(normals, offsets, strict=True)
         ):
             continue
@@ -166,6 +224,11 @@ def _merge_coplanar_facets(
     faces = []
     for n, d in zip(normals_arr, offsets_arr, strict=True):
         on_plane = np.flatnonzero(np.abs(vertices @ n - d) < tol)
+        if len(on_plane) < 3:
+            raise DegenerateFaceError(
+                f"degenerate block face: {len(on_plane)} corners lie on the plane with normal "
+                f"{np.array2string(n, precision=6)}"
+            )
         faces.append(_order_ccw(vertices, on_plane, n))
     return normals_arr, offsets_arr, tuple(faces)
 
@@ -252,19 +315,22 @@ def penetration_depth(a: ConvexBlock, b: ConvexBlock, tol: float = 0.0) -> float
     separated or merely touch: once a face normal shows an overlap of at most ``tol`` the
     edge axes are skipped, and that overlap is returned.
     """
+    # projections about a point of the pair, not about the global origin (module notes)
+    va = a.vertices - a.centroid
+    vb = b.vertices - a.centroid
     face_axes = np.concatenate([a.normals, b.normals])
-    depth = _smallest_overlap(a.vertices, b.vertices, face_axes)
+    depth = _smallest_overlap(va, vb, face_axes)
     if depth <= tol:
         return depth
-    edges_a = a.vertices[a.edges[:, 1]] - a.vertices[a.edges[:, 0]]
-    edges_b = b.vertices[b.edges[:, 1]] - b.vertices[b.edges[:, 0]]
+    edges_a = va[a.edges[:, 1]] - va[a.edges[:, 0]]
+    edges_b = vb[b.edges[:, 1]] - vb[b.edges[:, 0]]
     cross = np.cross(edges_a[:, None, :], edges_b[None, :, :]).reshape(-1, 3)
     norm = np.linalg.norm(cross, axis=1)
     scale = np.linalg.norm(edges_a, axis=1).max() * np.linalg.norm(edges_b, axis=1).max()
     keep = norm > 1e-9 * scale
     if not keep.any():
         return depth
-    return min(depth, _smallest_overlap(a.vertices, b.vertices, cross[keep] / norm[keep, None]))
+    return min(depth, _smallest_overlap(va, vb, cross[keep] / norm[keep, None]))
 
 
 def _smallest_overlap(va: np.ndarray, vb: np.ndarray, axes: np.ndarray) -> float:
@@ -282,7 +348,7 @@ def clip_halfspace(block: ConvexBlock, normal: np.ndarray, offset: float) -> Con
     """
     n = np.asarray(normal, dtype=float)
     dist = block.vertices @ n - offset
-    tol = PLANE_TOL * block.size
+    tol = plane_tolerance(block.vertices, block.size)
     if np.all(dist <= tol):
         return block
     if np.all(dist >= -tol):
@@ -302,5 +368,7 @@ def clip_halfspace(block: ConvexBlock, normal: np.ndarray, offset: float) -> Con
     ]
     try:
         return convex_block(points)
+    except DegenerateFaceError:
+        raise
     except ValueError:
         return None  # a sliver without volume
