@@ -133,6 +133,12 @@ class CollapseCriteria:
         self.ctrl.append(float(c))
         self.peak = max(self.peak, lam)
         if self.slope0 is None:
+            if lam <= 10.0 * lam_noise:
+                # no resistance (yet): the initial slope would be noise. A path that stays
+                # there for plateau_steps steps and dc0s is a mechanism at lambda = 0 (a block
+                # on a frictionless floor; the fibre law ran to max_steps on it)
+                far = c - self.ctrl[0] >= (1.0 - 1e-9) * self.plateau_steps * self.dc0
+                return "plateau" if far and len(self.lams) > self.plateau_steps else None
             self.slope0 = max(lam / (c - self.ctrl[0]), 1e-300)
         limit = self.plateau_slope * self.slope0
         # the stretch over which the noise in lambda is a tenth of the rise a plateau allows

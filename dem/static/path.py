@@ -37,6 +37,10 @@ from dem.static.settings import StaticSettings
 
 logger = logging.getLogger(__name__)
 
+SLOW_RISE = 0.01
+"""A plateau whose peak rose by more than this fraction over the last ``plateau_window`` of
+the path is reported with a warning (:meth:`PathFollower._warn_still_rising`)."""
+
 
 @dataclass(eq=False)
 class Peak:
@@ -226,6 +230,8 @@ class PathFollower:
         # lambda is known to the residual tolerance the step met (relative to the loads)
         lam_noise = self.corrector.tolerance(new.lam, out.loose) / self.model.live_norm
         end = self.criteria.add(new.lam, float(self.model.w @ new.u), lam_noise, out.loose)
+        if end == "plateau":
+            self._warn_still_rising()
         if end is not None:
             return end, ""
         # a loose step stalled at a kink of the law, which a shorter step does not remove
@@ -233,6 +239,24 @@ class PathFollower:
         growth = 1.0 if out.loose else math.sqrt(target / max(out.iterations, 1))
         self.dc = min(self.dc * min(max(growth, 0.5), 2.0), self.dc_max)
         return None
+
+    def _warn_still_rising(self) -> None:
+        """Warn when a plateau ends a path whose peak still rose by more than ``SLOW_RISE``
+        of itself over the last ``plateau_window`` of it: its steps each rose by less than
+        ten times lambda's noise, so they counted as flat. A block tipping on a 20 degree
+        slope (resultant law) ended so 12 % below its limit."""
+        criteria = self.criteria
+        noise = self.corrector.tolerance(criteria.peak) / self.model.live_norm
+        rise = criteria.recent_rise() / criteria.peak
+        if rise > SLOW_RISE and criteria.recent_rise() > 10.0 * noise:
+            other = "the fibre law or " if self.model.law.settings.name == "resultant" else ""
+            logger.warning(
+                "plateau at lambda = %.6g although lambda rose by %.2g %% over the last %g of "
+                "the path, in steps too short to resolve: a slow approach to a limit (e.g. a "
+                "joint rocking about an edge with the resultant law) may end higher; %s"
+                "limit.limit_analysis bound it",
+                criteria.peak, 100 * rise, self.settings.plateau_window, other,
+            )  # fmt: skip
 
     def _still_rising(self) -> str:
         """Why a path that reached ``max_steps`` is no collapse: how fast lambda still rises."""
@@ -248,11 +272,12 @@ class PathFollower:
         if ratio < self.settings.plateau_slope and criteria.peak > 0:
             # flat by the slope test, yet the peak keeps rising along the path
             rise = criteria.recent_rise() / criteria.peak
+            other = "the fibre law or " if self.model.law.settings.name == "resultant" else ""
             reason += (
                 f", and by {100 * rise:.2g} % over the last {self.settings.plateau_window:g} "
                 "of the path: a slow approach to a limit (a joint rocking on a shrinking "
                 "compressed part, e.g. the resultant law's about a corner) or slow hardening; "
-                "more max_steps, the fibre law or limit.limit_analysis give the limit"
+                f"more max_steps, {other}limit.limit_analysis give the limit"
             )
         logger.warning(reason)
         return reason

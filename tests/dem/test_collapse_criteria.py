@@ -139,3 +139,17 @@ def test_bad_settings_are_refused(kw, match):
     args = dict(c0=0.0, dc0=DC0, plateau_slope=2e-3, plateau_steps=4, softening_drop=0.2)
     with pytest.raises(ValueError, match=match):
         CollapseCriteria(**{**args, **kw})
+
+
+def test_a_path_flat_at_zero_from_the_start_is_a_mechanism_at_zero():
+    # a block on a frictionless floor: lambda stays within its noise of 0 while c grows. The
+    # initial slope is then noise, and a plateau judged against it was never reached (the
+    # fibre law ran to max_steps); four steps spanning four DC0 end it at lambda = 0
+    rng = np.random.default_rng(0)
+    cs = DC0 * np.arange(1, 40)
+    i, end = _run(_criteria(), cs, NOISE * rng.uniform(-1, 1, len(cs)))
+    assert end == "plateau"
+    assert i == 4 - 1
+    # a path that rises from the first step is judged as before
+    j, end = _run(_criteria(), cs, np.minimum(SLOPE0 * cs, 0.1))
+    assert (j, end) == (10 + 4 - 1, "plateau")

@@ -1,7 +1,11 @@
 """Static DEM to collapse against closed forms (rigid blocks, Coulomb friction, no tension)."""
 
+import logging
+import math
+
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from dem.scene import Scene, Supports, proportional_to_weight
 from dem.scenes.running_bond_wall import running_bond_wall
@@ -241,3 +245,37 @@ def test_joints_too_stiff_to_tell_contact_from_touching_are_refused(model):
     kn = kn_refused * 1e-5
     result = solve_collapse(scene, StaticSettings(interface_model=model, kn=kn, kt=kn / 2.4))
     _near_limit(result.lambda_max, mu, model)
+
+
+def test_a_plateau_reached_while_lambda_still_rises_is_reported(caplog):
+    """A 0.4 x 1 m block on a slope of 20 degrees, pushed downhill by its weight: it tips at
+    lambda = tan(atan(b / h) - theta) (closed form). The fibre law reaches that; the resultant
+    law approaches it as its joint's compressed part shrinks, in steps each rising less than
+    ten times lambda's noise, which count as flat: its plateau, 12 % below the limit, is
+    reported with a warning that lambda still rose (by about 6 %) over the last half of the
+    path."""
+    theta, b, h = math.radians(20.0), 0.4, 1.0
+    rot = Rotation.from_rotvec([0.0, theta, 0.0]).as_matrix()
+    ground = _box(-0.8, 0.8, -0.8, 0.8, -0.3, 0.0) @ rot.T
+    block = _box(-b / 2, b / 2, -b / 2, b / 2, 0.0, h) @ rot.T
+    scene = Scene.from_convex_blocks([ground, block], 2000.0, fixed=[0], mu=0.9)
+    live = proportional_to_weight(scene.assembly, (1.0, 0.0, 0.0))
+    scene = scene.with_loads(live=live)
+    tips = math.tan(math.atan(b / h) - theta)
+    with caplog.at_level(logging.WARNING, logger="dem.static.path"):
+        fibre = solve_collapse(scene, StaticSettings(interface_model="fibre"))
+    np.testing.assert_allclose(fibre.lambda_max, tips, rtol=1e-3)
+    assert "although lambda rose" not in caplog.text
+    with caplog.at_level(logging.WARNING, logger="dem.static.path"):
+        resultant = solve_collapse(scene, StaticSettings())
+    assert resultant.collapsed and resultant.lambda_max < 0.95 * tips
+    assert "although lambda rose by" in caplog.text
+    assert "the fibre law or limit.limit_analysis bound it" in caplog.text
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_a_block_on_a_frictionless_floor_collapses_at_zero(model):
+    """Closed form lambda = mu = 0: the path stays flat at 0 from its first step (the fibre law
+    ran to max_steps, its initial slope being noise); a collapse at lambda within 1e-8."""
+    result = solve_collapse(_stack([(0.4, 1.0)], 0.0), StaticSettings(interface_model=model))
+    assert result.collapsed and abs(result.lambda_max) < 1e-8
