@@ -148,6 +148,10 @@ def test_store_refuses_another_sweep_and_changed_parameters(tmp_path):
         overwrite=True,
     )  # fmt: skip
     assert (fresh.n_run, fresh.n_skipped) == (2, 0)
+    # the first sweep's two records are set aside with its manifest, not deleted
+    kept = tmp_path / "s" / "superseded" / "1"
+    assert len((kept / "results.jsonl").read_text().splitlines()) == 2
+    assert json.loads((kept / "manifest.json").read_text())["v"] == 1
 
 
 def test_duplicate_keys_are_rejected(tmp_path):

@@ -4,7 +4,8 @@ Each case is a Monte Carlo sweep (:mod:`validation.sweep`): one task per realisa
 from the study's root seed by ``SeedSequence.spawn``, records streamed to the working store
 ``validation/results/.sweeps/CASE[-quick]/`` (git-ignored). The store is reused (a killed study
 resumes) only while its manifest matches: the settings and a hash of the sources of ``dem/``,
-``limit/`` and the task code; any change there starts the study afresh. When the study ends, its
+``limit/`` and the task code; any change there starts the study afresh (the earlier records are
+moved to ``superseded/N/`` in the store, not deleted). When the study ends, its
 records (the last of each run, in task order) become the side product ``CASE-runs.jsonl``
 beside ``CASE.json``; the figures read it. Where the sweep runs
 follows :func:`validation.sweep.open_executor` (``BLOCKMECH_SCHEDULER``, ``BLOCKMECH_WORKERS``,

@@ -84,7 +84,8 @@ def run_sweep(
     retry_failed : bool
         Run again the tasks whose last record is a failure (default: a failure is a result).
     overwrite : bool
-        Discard a store whose manifest differs instead of raising.
+        Start afresh in a store whose manifest differs instead of raising (its records are
+        set aside in ``superseded/N/``, see :class:`validation.sweep.store.ResultStore`).
 
     Returns
     -------

@@ -42,7 +42,8 @@ class ResultStore:
         differs raises :class:`SweepStoreError` unless ``overwrite`` is set, so results of one
         study are never mixed into another.
     overwrite : bool
-        Start afresh when the manifest differs (the old records are deleted).
+        Start afresh when the manifest differs (the old records and manifest are moved to
+        ``superseded/N/`` in the store, not deleted).
     """
 
     directory: Path
@@ -63,11 +64,26 @@ class ResultStore:
                         f"{self.directory} holds another sweep (manifest differs: "
                         f"{_diff(old, manifest)}); pass a new directory or overwrite=True"
                     )
-                logger.info("%s: manifest changed, old records deleted", self.directory)
-                (self.directory / RESULTS).unlink(missing_ok=True)
+                kept = self._set_aside(old)
+                logger.warning(
+                    "%s: another sweep's records (manifest differs: %s) set aside in %s",
+                    self.directory, _diff(old, manifest), kept,
+                )  # fmt: skip
         tmp = path.with_suffix(".tmp")
         tmp.write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
         os.replace(tmp, path)
+
+    def _set_aside(self, old: dict) -> Path:
+        """Move the records and manifest of a superseded sweep into ``superseded/N/`` of the
+        store (never deleted: a study killed before a code change keeps its records)."""
+        base = self.directory / "superseded"
+        n = 1 + max((int(p.name) for p in base.glob("*") if p.name.isdigit()), default=0)
+        kept = base / str(n)
+        kept.mkdir(parents=True)
+        if (self.directory / RESULTS).exists():
+            os.replace(self.directory / RESULTS, kept / RESULTS)
+        (kept / MANIFEST).write_text(json.dumps(old, indent=1, sort_keys=True) + "\n")
+        return kept
 
     @property
     def results_path(self) -> Path:
