@@ -498,34 +498,60 @@ def facet_tractions(packing: Packing, result: TrescaResult, traction: np.ndarray
     return out
 
 
+_CLARABEL_TIGHT = {
+    "tol_gap_abs": 1e-10,
+    "tol_gap_rel": 1e-10,
+    "tol_feas": 1e-10,
+    "tol_ktratio": 1e-8,
+    "max_iter": 400,
+}
+"""Clarabel options of the second multiplier solve: a hundred times its default tolerances and
+twice its iterations, as the last attempt of :mod:`limit.clarabel`."""
+
+
 @dataclass(frozen=True)
 class TrescaMultiplierResult:
-    """Largest multiplier of a live traction that the packing carries (lower-bound LP).
+    """Largest multiplier of a live traction that the packing carries, with its certificate.
 
     Attributes
     ----------
     load_multiplier : float
         :math:`\\alpha^*` [-]: the traction ``dead + alpha * live`` is admissible iff
         ``alpha <= alpha^*``.
+    upper_bound : float
+        Dual objective [-]: the kinematic multiplier of the mechanism read from the duals of
+        the equilibrium rows (see :func:`max_load_multiplier`).
     normal_force, tangential_force : ndarray, shape (n_edges,)
         An admissible force set at :math:`\\alpha^*` [N/m], sign convention of
         :class:`TrescaResult`.
     status : str
-        cvxpy status.
+        cvxpy status of the accepted solve.
     is_inaccurate : bool
-        True if the solver returned ``optimal_inaccurate``.
-    equilibrium_residual : float
-        Certificate, as in :class:`TrescaResult` [-].
+        True if the accepted solve returned ``optimal_inaccurate``.
+    equilibrium_residual, friction_residual : float
+        Certificates of the forces, as in :class:`TrescaResult` [-].
+    duality_gap : float
+        :math:`|\\bar\\alpha - \\alpha^*|` relative to the multiplier [-] (notes of
+        :func:`max_load_multiplier`).
+    dual_residual : float
+        Largest interpenetration of the mechanism relative to its largest jump [-].
+    attempts : tuple of (str, str)
+        ``(attempt, status)`` of every solve, in order.
     wall_s : float
         [s].
     """
 
     load_multiplier: float
+    upper_bound: float
     normal_force: np.ndarray
     tangential_force: np.ndarray
     status: str
     is_inaccurate: bool
     equilibrium_residual: float
+    friction_residual: float
+    duality_gap: float
+    dual_residual: float
+    attempts: tuple
     wall_s: float
 
 
@@ -546,7 +572,7 @@ def max_load_multiplier(
     ----------
     packing : Packing
     dead_traction, live_traction : array_like, shape (n_bnd, 2)
-        Boundary tractions [Pa], each with zero resultant.
+        Boundary tractions [Pa], each with zero resultant; the live one not zero.
     s : float or array_like, shape (n_edges,)
         Tresca threshold [Pa].
     settings : TrescaSettings, optional
@@ -558,12 +584,33 @@ def max_load_multiplier(
 
     Raises
     ------
+    ValueError
+        Bad shapes, a traction with a non-zero resultant, or a zero live traction.
     NoMechanismError
         Unbounded: the live load never fails the packing.
     DeadLoadInfeasibleError
         Infeasible, or optimal at a negative multiplier: the dead load alone is not admissible.
     NumericalFailureError
-        Any other non-optimal status, or a point that fails its certificate.
+        Any other non-optimal status, or a point that fails its certificate (after a solve
+        with tighter tolerances for Clarabel).
+
+    Notes
+    -----
+    The programme is solved in scaled units, whatever the units of the data: forces divided
+    by the largest cell load :math:`F = \\max(\\max_c|F_{dead,c}|, \\max_c|F_{live,c}|)` and
+    :math:`\\alpha` by :math:`F / \\max_c|F_{live,c}|`. (Its only data are forces per unit
+    length, so no length scale enters.) Unscaled, Clarabel stopped at 1 % of the optimum
+    with loads of 1e5 Pa.
+
+    The multipliers :math:`v` of the equilibrium rows, normalised to unit live power
+    :math:`F_{live}\\cdot v = 1`, are cell velocities of the Lagrange dual
+    :math:`\\bar\\alpha = \\min_v \\sum_e s|e|\\,|[v]_e\\cdot t_e| - F_{dead}\\cdot v` s.t.
+    :math:`[v]_e\\cdot n_e \\ge 0` (the kinematic, upper-bound multiplier of the mechanism
+    :math:`v`). The result is accepted only if the forces pass the equilibrium and friction
+    certificates, the mechanism does not interpenetrate, and the gap
+    :math:`|\\bar\\alpha - \\alpha^*| / \\max(|\\alpha^*|, |\\bar\\alpha|, \\epsilon\\,\\alpha_F)`
+    is at most ``feas_tol`` (:math:`\\epsilon` = ``feas_tol``, :math:`\\alpha_F` the
+    multiplier unit above: a multiplier that vanishes is resolved to the forces' tolerance).
     """
     settings = settings or TrescaSettings()
     s_e = _check_s(packing, s)
@@ -572,26 +619,113 @@ def max_load_multiplier(
     for name, load in (("dead traction", dead), ("live traction", live)):
         if np.linalg.norm(load.sum(axis=0)) > 1e-9 * max(np.abs(load).sum(), 1e-300):
             raise ValueError(f"{name} resultant must vanish")
+    live_max = float(np.max(np.linalg.norm(live, axis=1), initial=0.0))
+    if live_max == 0.0:
+        raise ValueError("live traction is zero: no load multiplier to compute")
+    force_scale = max(float(np.max(np.linalg.norm(dead, axis=1), initial=0.0)), live_max)
+    alpha_unit = force_scale / live_max
     start = time.perf_counter()
     n_e = packing.n_edges
-    A = equilibrium_matrix(packing)
+    # the last cell's balance follows from the others (zero resultants): its velocity is the
+    # reference, zero, in the dual
     keep = slice(0, 2 * packing.n_cells - 2)
+    A = equilibrium_matrix(packing)[keep]
+    d_hat = dead.ravel()[keep] / force_scale
+    l_hat = live.ravel()[keep] / live_max
+    cap_hat = s_e * packing.edge_length / force_scale
     lam = cp.Variable(n_e)
     f_t = cp.Variable(n_e)
     alpha = cp.Variable()
 
     def admissible(multiplier):
-        load = dead.ravel()[keep] + multiplier * live.ravel()[keep]
-        return [
-            A[keep] @ cp.hstack([lam, f_t]) + load == 0,
-            lam >= 0,
-            cp.abs(f_t) <= s_e * packing.edge_length,
-        ]
+        balance = A @ cp.hstack([lam, f_t]) + d_hat + multiplier * l_hat == 0
+        return [balance, lam >= 0, cp.abs(f_t) <= cap_hat]
 
-    problem = cp.Problem(cp.Maximize(alpha), admissible(alpha))
-    problem.solve(solver=settings.solver)
+    constraints = admissible(alpha)
+    problem = cp.Problem(cp.Maximize(alpha), constraints)
+    attempts = [("default", {})]
+    if settings.solver == "CLARABEL":
+        attempts.append(("tightened", _CLARABEL_TIGHT))
+    history: list[tuple[str, str]] = []
+    failure = ""
+    for i, (label, options) in enumerate(attempts):
+        last = i == len(attempts) - 1
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="Solution may be inaccurate")
+            problem.solve(solver=settings.solver, **options)
+        history.append((label, problem.status))
+        if problem.status == cp.OPTIMAL_INACCURATE and not last:
+            failure = f"solver status {problem.status}"
+            continue
+        if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
+            _raise_multiplier_status(problem, admissible, settings.solver)
+        a_star = float(alpha.value) * alpha_unit
+        if a_star < 0:
+            raise DeadLoadInfeasibleError(
+                f"Tresca load multiplier: the dead load alone is not carried (only the live "
+                f"load reversed, times {-a_star:.6g}, would balance it): no load multiplier "
+                "exists"
+            )
+        lam_si = np.asarray(lam.value) * force_scale
+        f_t_si = np.asarray(f_t.value) * force_scale
+        traction = np.asarray(dead_traction) + a_star * np.asarray(live_traction)
+        eq, fr = admissibility_residuals(packing, traction, s_e, lam_si, f_t_si)
+        # dual velocities, normalised to unit live power (this fixes cvxpy's sign convention)
+        y = np.asarray(constraints[0].dual_value, dtype=np.float64)
+        power = float(l_hat @ y)
+        v = y / power if power != 0.0 else np.full_like(y, np.nan)
+        jump_n, jump_t = A[:, :n_e].T @ v, A[:, n_e:].T @ v
+        upper = float(cap_hat @ np.abs(jump_t) - d_hat @ v) * alpha_unit
+        jump_max = float(np.max(np.abs(np.concatenate([jump_n, jump_t]))))
+        dual_res = max(float(np.max(-jump_n)), 0.0) / jump_max
+        tol = settings.feas_tol
+        gap = abs(upper - a_star) / max(abs(a_star), abs(upper), tol * alpha_unit)
+        checks = {
+            "equilibrium": eq,
+            "friction": fr,
+            "duality gap": gap,
+            "mechanism interpenetration": dual_res,
+        }
+        if all(value <= tol for value in checks.values()):  # False for NaN
+            inaccurate = problem.status == cp.OPTIMAL_INACCURATE
+            if inaccurate:
+                warnings.warn(
+                    "Tresca load multiplier: solver returned 'optimal_inaccurate'; the point "
+                    "passed its certificate",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
+            return TrescaMultiplierResult(
+                load_multiplier=a_star,
+                upper_bound=upper,
+                normal_force=lam_si,
+                tangential_force=f_t_si,
+                status=problem.status,
+                is_inaccurate=inaccurate,
+                equilibrium_residual=eq,
+                friction_residual=fr,
+                duality_gap=gap,
+                dual_residual=dual_res,
+                attempts=tuple(history),
+                wall_s=time.perf_counter() - start,
+            )
+        failure = (
+            f"alpha = {a_star:.9g}, dual bound {upper:.9g}; "
+            + ", ".join(f"{k} {val:.2e}" for k, val in checks.items())
+            + f" (tolerance {tol:.1e})"
+        )
+        logger.info("Tresca load multiplier, %s solve rejected: %s", label, failure)
+    text = ", ".join(f"{a} {st}" for a, st in history)
+    raise NumericalFailureError(
+        f"Tresca load multiplier: no certified optimum after {len(history)} solves ({text}); "
+        f"last: {failure}"
+    )
+
+
+def _raise_multiplier_status(problem: cp.Problem, admissible, solver: str) -> None:
+    """Raise the outcome of a multiplier programme that ended without an optimum."""
     try:
-        inaccurate = _accept(
+        _accept(
             problem,
             "Tresca load multiplier",
             "Unbounded: the live load never fails; infeasible: the dead load alone is not carried.",
@@ -601,29 +735,10 @@ def max_load_multiplier(
         # an interior-point solver may report a programme that is both primal and dual
         # infeasible as unbounded: only a dead load that is carried leaves the live load free
         dead_only = cp.Problem(cp.Minimize(0), admissible(0.0))
-        dead_only.solve(solver=settings.solver)
+        dead_only.solve(solver=solver)
         if dead_only.status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
             raise DeadLoadInfeasibleError(
                 "Tresca load multiplier: the dead load alone is not carried (no admissible "
                 "force set at multiplier 0)"
             ) from None
         raise
-    a_star = float(alpha.value)
-    if a_star < 0:
-        raise DeadLoadInfeasibleError(
-            f"Tresca load multiplier: the dead load alone is not carried (only the live load "
-            f"reversed, times {-a_star:.6g}, would balance it): no load multiplier exists"
-        )
-    traction = np.asarray(dead_traction) + a_star * np.asarray(live_traction)
-    eq, _ = admissibility_residuals(packing, traction, s_e, lam.value, f_t.value)
-    if eq > settings.feas_tol:
-        raise NumericalFailureError(f"load multiplier fails its equilibrium certificate: {eq:.2e}")
-    return TrescaMultiplierResult(
-        load_multiplier=a_star,
-        normal_force=np.asarray(lam.value),
-        tangential_force=np.asarray(f_t.value),
-        status=problem.status,
-        is_inaccurate=inaccurate,
-        equilibrium_residual=eq,
-        wall_s=time.perf_counter() - start,
-    )

@@ -184,3 +184,69 @@ def test_multiplier_outcomes_by_type(solver):
         max_load_multiplier(wall, pressure + shear, pressure, s, TrescaSettings(solver=solver))
     with pytest.raises(DeadLoadInfeasibleError, match="reversed"):
         max_load_multiplier(wall, pressure + shear, shear, s, TrescaSettings(solver=solver))
+
+
+def _two_by_two_unit_squares():
+    return voronoi_packing_from_seeds(
+        np.array([[0.5, 0.5], [1.5, 0.5], [0.5, 1.5], [1.5, 1.5]]), 2.0, 2.0
+    )
+
+
+@pytest.mark.parametrize("solver", ["HIGHS", "CLARABEL"])
+@pytest.mark.parametrize(
+    "p, s, tau",
+    [(1e5, 3e3, 1e4), (1.0, 0.03, 0.1)],
+    ids=["SI", "scaled"],
+)
+def test_multiplier_2x2_pure_shear_closed_form(solver, p, s, tau):
+    # closed form alpha* = s / tau, in any units: the uniform stress -p I + alpha tau (e1 e2 +
+    # e2 e1) puts shear alpha tau on every edge, all normals compressive (lower bound), and the
+    # top row sliding on the bottom one dissipates 2 s against live power 2 tau (upper bound).
+    # Unscaled, Clarabel stopped at alpha = 0.0028 in SI units
+    from limit.tresca import max_load_multiplier
+
+    packing = _two_by_two_unit_squares()
+    res = max_load_multiplier(
+        packing,
+        uniform_stress_traction(packing, -p * np.eye(2)),
+        uniform_stress_traction(packing, [[0.0, tau], [tau, 0.0]]),
+        s,
+        TrescaSettings(solver=solver),
+    )
+    np.testing.assert_allclose(res.load_multiplier, s / tau, rtol=1e-7)
+    np.testing.assert_allclose(res.upper_bound, s / tau, rtol=1e-7)
+    assert res.duality_gap <= 1e-6
+    assert res.dual_residual <= 1e-6
+    assert res.equilibrium_residual <= 1e-9
+    assert res.friction_residual <= 1e-6
+
+
+def test_multiplier_voronoi_clarabel_agrees_with_highs():
+    # another solver: HiGHS (simplex, exact vertex) on the same LP; Clarabel was 0.2 % low
+    # before the programme was scaled
+    from limit.tresca import max_load_multiplier
+
+    packing = voronoi_packing(30, 1.0, 1.0, seed=3)
+    dead = uniform_stress_traction(packing, -1e5 * np.eye(2))
+    live = uniform_stress_traction(packing, [[1e4, 0.0], [0.0, 0.0]])
+    alphas = {
+        solver: max_load_multiplier(packing, dead, live, 3e3, TrescaSettings(solver=solver))
+        for solver in ("HIGHS", "CLARABEL")
+    }
+    np.testing.assert_allclose(
+        alphas["CLARABEL"].load_multiplier, alphas["HIGHS"].load_multiplier, rtol=1e-6
+    )
+    for res in alphas.values():
+        assert res.duality_gap <= 1e-6
+
+
+def test_multiplier_gap_not_closed_is_a_numerical_failure():
+    # a gap tolerance below what Clarabel reaches even with tightened tolerances: an error
+    # that names both solves, never an uncertified multiplier
+    from limit.tresca import max_load_multiplier
+
+    packing = voronoi_packing(30, 1.0, 1.0, seed=3)
+    dead = uniform_stress_traction(packing, -np.eye(2))
+    live = uniform_stress_traction(packing, [[0.1, 0.0], [0.0, 0.0]])
+    with pytest.raises(NumericalFailureError, match="after 2 solves.*duality gap"):
+        max_load_multiplier(packing, dead, live, 0.03, TrescaSettings(feas_tol=1e-14))
