@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import pkgutil
 import sys
 import time
@@ -113,7 +114,7 @@ def main(argv: list[str] | None = None) -> int:
 def _add_cluster_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--workers",
-        type=int,
+        type=_worker_count,
         default=None,
         help="run the cases as dask tasks on a local cluster of N worker processes",
     )
@@ -124,17 +125,45 @@ def _add_cluster_args(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _worker_count(text: str) -> int:
+    """``--workers N``: an integer >= 0 (0 runs serially in this process)."""
+    try:
+        n = int(text)
+    except ValueError:
+        n = -1
+    if n < 0:
+        raise argparse.ArgumentTypeError(
+            f"must be an integer >= 0 (0: serially in this process), got {text!r}"
+        )
+    return n
+
+
 def _run_on_cluster(names: list[str], args) -> int:
-    """The cases as dask tasks (validation.sweep.cases); each writes its results as it ends."""
+    """The cases as dask tasks (validation.sweep.cases); each writes its results as it ends.
+
+    A case's failure is reported and the others go on (1 at the end); a cluster that cannot
+    be used is one line naming it: 2 for an address that is none (bad usage), 1 for one that
+    cannot be reached or a cluster that fails."""
     from validation.sweep.cases import run_cases_on_cluster
+    from validation.sweep.executors import SCHEDULER_ENV
 
     failed = []
-    for name, wall, exc in run_cases_on_cluster(names, args.quick, args.workers, args.scheduler):
-        if exc is not None:
-            print(f"{name}: FAILED: {type(exc).__name__}: {exc}", file=sys.stderr)
-            failed.append(name)
-        else:
-            print(f"{name}: finished on the cluster in {wall:.1f} s")
+    cases = run_cases_on_cluster(names, args.quick, args.workers, args.scheduler)
+    scheduler = args.scheduler or os.environ.get(SCHEDULER_ENV)
+    where = f"the scheduler {scheduler}" if scheduler else f"{args.workers} local workers"
+    try:
+        for name, wall, exc in cases:
+            if exc is not None:
+                print(f"{name}: FAILED: {type(exc).__name__}: {exc}", file=sys.stderr)
+                failed.append(name)
+            else:
+                print(f"{name}: finished on the cluster in {wall:.1f} s")
+    except ValueError as exc:  # a case's own errors are yielded, not raised
+        print(f"validation: cannot use {where}: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"validation: cannot use {where}: {exc}", file=sys.stderr)
+        return 1
     if failed:
         print(f"failed cases: {', '.join(failed)}", file=sys.stderr)
         return 1

@@ -208,11 +208,15 @@ def test_laws_that_both_did_not_collapse_are_not_compared():
     assert _status(checks, "the two DEM laws agree") == "fail"
 
 
-def test_unbounded_limit_and_no_dem_collapse_agree():
+def test_unbounded_limit_and_no_dem_collapse_is_no_collapse_to_check():
+    # a run that did not collapse does not pass "collapsed" (it showed pass, value inf, for a
+    # block pushed into the ground); no mechanism exists, so the line does not apply
     stalled = {"lambda_max": 70.0, "termination": "max_steps", "collapsed": False}
     ctx = _ctx(**{"limit-vertex": {"upper": math.inf, "unbounded": True}, "dem-fibre": stalled})
     checks = verdict(ctx)
-    assert _status(checks, "DEM fibre law collapsed") == "pass"
+    (line,) = [c for c in checks if c.name == "DEM fibre law collapsed"]
+    assert line.status == "n/a" and line.value is None
+    assert "max_steps" in line.detail and "finds no mechanism" in line.detail
     assert _status(checks, "finite upper bound (vertex)") == "n/a"
 
 
@@ -246,9 +250,63 @@ def test_report_lists_unbalanced_and_most_stressed_blocks():
 @pytest.mark.parametrize("lam, status", [(0.26, "pass"), (0.29, "fail"), (0.22, "fail")])
 def test_the_explicit_bracket_check_says_why_an_explicit_collapse_comes_lower(lam, status):
     dem = {"collapsed": True, "lambda_max": lam}
-    explicit = {"collapsed": True, "lambda_stable": 0.245, "lambda_moving": 0.25}
+    explicit = {
+        "collapsed": True,
+        "mechanism_confirmed": True,
+        "lambda_stable": 0.245,
+        "lambda_moving": 0.25,
+    }
     ctx = _ctx(explicit=explicit, **{"dem-fibre": dem})
     (check,) = [c for c in explicit_checks(ctx, 1e-6, 0.05) if "static DEM fibre" in c.name]
     assert check.status == status
     # the hint only where the explicit run collapsed lower than the static DEM: 0.29 > 0.2625
     assert ("large displacements" in check.detail) == (lam == 0.29)
+
+
+@pytest.mark.parametrize("metre", [1.0, 1e-3], ids=["m", "mm"])
+def test_an_explicit_collapse_its_solver_does_not_confirm_is_no_collapse(metre):
+    """One block 0.2 x 0.2 x 0.4 m on the ground, in metres and in millimetres: in mm the
+    explicit DEM's motion at 0.4375 does not grow when followed and the solver says the
+    mechanism is not confirmed (LateralResult.mechanism_confirmed). The verdict passed
+    "explicit run collapsed" and used the bracket as agreement all the same."""
+    scene = stack(1, 0.2 / metre, 0.2 / metre, 0.4 / metre, mu=0.6)
+    settings = CrosscheckSettings.quick(methods=("limit", "dem", "explicit"), pictures=False)
+    result = crosscheck(scene, settings)
+    step = result.step("explicit")
+    confirmed = step.payload.mechanism_confirmed  # the explicit solver's own word
+    assert confirmed is (metre == 1.0)  # both branches are exercised
+    assert step.values["collapsed"] and step.values["mechanism_confirmed"] is confirmed
+    checks = {c.name: c for c in result.checks if c.step == "explicit"}
+    collapsed = checks["explicit run collapsed"]
+    assert collapsed.status == ("pass" if confirmed else "fail")
+    assert ("not confirmed" in collapsed.detail) is not confirmed
+    for law in ("fibre", "resultant"):
+        line = checks[f"explicit bracket holds the static DEM {law}"]
+        if confirmed:
+            assert line.status == "pass"
+        else:
+            assert line.status == "n/a" and "no agreement" in line.detail
+            assert "not confirmed" in step.reason
+    # a state at rest is statically admissible whatever came after it: b / h = 0.5
+    assert checks["explicit lambda_stable <= upper (vertex)"].status == "pass"
+    assert result.consistent is confirmed
+
+
+def test_a_fem_check_that_solved_no_block_says_so(tmp_path):
+    """FEM ok with no block solved (here: the only free block carries a concentrated
+    moment): the summary table printed a traceback and report.md 'largest tension None MPa'."""
+    from validation.crosscheck.cli import summary
+    from validation.crosscheck.fem_step import _summary
+    from validation.crosscheck.files import markdown
+    from validation.crosscheck.run import CrosscheckResult, scene_summary
+
+    values = _summary([], [0], 1e-3)
+    settings = {"state": "dem-fibre", "lambda": 0.5, "young": 10e9}
+    reason = "blocks [0] carry concentrated moments: not solved"
+    fem = StepResult("fem", "FEM", "ok", reason, 0.1, settings, values)
+    result = CrosscheckResult(scene_summary(stack(1, 0.2, 0.2, 0.4)), [fem], [])
+    table = summary(result)
+    assert "max_tension [MPa]" in table and "None" not in table
+    md = markdown(result, {}, {"git_commit": "0" * 40, "date": "today"})
+    assert "No block was solved at the state dem-fibre (lambda = 0.5): " + reason in md
+    assert "None MPa" not in md and "largest tension" not in md

@@ -1,5 +1,6 @@
 """The command lines: ``python -m validation crosscheck`` and the quiet ``validation all``."""
 
+import contextlib
 import json
 import logging
 import os
@@ -10,6 +11,7 @@ import warnings
 import matplotlib.image
 import meshio
 import numpy as np
+import pytest
 
 from dem.scenes import stack, voussoir_arch
 from validation.__main__ import main
@@ -186,3 +188,82 @@ def test_a_path_without_collapse_is_not_shown_as_lambda_max(tmp_path, capfd):
     assert len(rows) == 2
     for row in rows:
         assert "no collapse" in row and "lambda_max" not in row, row
+
+
+def test_a_live_load_without_mechanism_ends_with_a_summary(tmp_path, capfd):
+    """A block pressed into the ground (--live -z): no mechanism. The command crashed after
+    every step (the FEM step's largest tension None, divided for the summary) with rc 1, and
+    the report passed "DEM ... law collapsed" (value inf) and checked a state at lambda = inf
+    with no block solved, for a false reason (inf * 0 = nan read as a concentrated moment)."""
+    path = tmp_path / "block.json"
+    stack(1, 0.2, 0.2, 0.4, mu=0.6).to_json(path)
+    out = tmp_path / "report"
+    code = console_main([str(path), "--live", "-z", "--out", str(out), "--quick", "--no-pictures"])
+    console = capfd.readouterr()
+    assert code == 0, console.out + console.err  # nothing failed: README, exit codes
+    assert "verdict: consistent" in console.out and "Traceback" not in console.err
+    data = json.loads((out / "report.json").read_text())
+    checks = {c["name"]: c for c in data["checks"]}
+    for law in ("fibre", "resultant"):
+        line = checks[f"DEM {law} law collapsed"]
+        assert line["status"] == "n/a" and "no_mechanism" in line["detail"]
+    fem = next(s for s in data["steps"] if s["name"] == "fem")
+    assert fem["status"] == "skipped" and "no_mechanism" in fem["reason"]
+    assert "concentrated moments" not in fem["reason"]
+    md = (out / "report.md").read_text()
+    assert "None MPa" not in md and "lambda = inf" not in md.split("## Steps")[0]
+
+
+def test_an_output_folder_that_cannot_be_written_is_bad_usage(tmp_path, capfd):
+    """README: rc 1 is a failed check, 2 unreadable input; --out on a file or under /proc
+    gave a traceback and rc 1."""
+    path = tmp_path / "block.json"
+    stack(1, 0.2, 0.2, 0.4, mu=0.6).to_json(path)
+    a_file = tmp_path / "a_file"
+    a_file.write_text("")
+    for out, says in ((a_file, "is a file, not a folder"), ("/proc/nope", "/proc/nope")):
+        assert console_main([str(path), "--live", "x", "--out", str(out), "--methods", "dead"]) == 2
+        err = capfd.readouterr().err
+        assert err.startswith("crosscheck: cannot write the output folder --out") and says in err
+        assert len(err.strip().splitlines()) == 1
+    assert a_file.read_text() == ""
+
+
+def test_fixed_block_ids_that_are_not_integers_name_the_option(tmp_path, capfd):
+    with pytest.raises(SystemExit) as stop:
+        console_main([str(tmp_path / "x.json"), "--fixed", "0,a"])
+    assert stop.value.code == 2
+    err = capfd.readouterr().err
+    assert "argument --fixed: block ids must be integers separated by commas, got '0,a'" in err
+    assert "invalid literal" not in err
+
+
+def test_a_negative_worker_count_is_refused_by_argparse(capfd):
+    with pytest.raises(SystemExit) as stop:
+        main(["run", "geometry", "--workers", "-1"])
+    assert stop.value.code == 2
+    assert "argument --workers: must be an integer >= 0" in capfd.readouterr().err
+
+
+def test_a_scheduler_that_cannot_be_used_is_one_line_naming_it(monkeypatch, capfd):
+    """No case runs: the address is refused by dask at once (bad usage, rc 2); a scheduler
+    that does not answer is dask's OSError after its 20 s timeout, raised here (rc 1)."""
+    assert main(["run", "geometry", "--scheduler", "notanaddress"]) == 2
+    err = capfd.readouterr().err
+    assert err == (
+        "validation: cannot use the scheduler notanaddress: missing port number in address "
+        "'notanaddress'\n"
+    )
+
+    @contextlib.contextmanager
+    def unreachable(workers, scheduler):
+        raise OSError(f"Timed out trying to connect to {scheduler} after 20 s")
+        yield
+
+    monkeypatch.setattr("validation.sweep.cases.open_executor", unreachable)
+    assert main(["run", "geometry", "--scheduler", "tcp://127.0.0.1:9"]) == 1
+    err = capfd.readouterr().err
+    assert err == (
+        "validation: cannot use the scheduler tcp://127.0.0.1:9: Timed out trying to connect "
+        "to tcp://127.0.0.1:9 after 20 s\n"
+    )

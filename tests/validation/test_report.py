@@ -52,6 +52,22 @@ def test_results_and_side_products_are_written_together(tmp_path, monkeypatch):
     assert not list(tmp_path.glob(".staging-*"))  # nothing left behind
 
 
+def test_results_have_the_mode_of_every_other_output(tmp_path, monkeypatch):
+    """CASE.json and CASE.md were written with mkstemp's 0600; the side product beside them
+    (np.savez, an ordinary open) has 0666 less the umask."""
+    monkeypatch.setitem(cli.CASES, "fake", _case(1.0))
+    old = os.umask(0o022)
+    try:
+        cli.run_case("fake", quick=True, out_dir=tmp_path)
+    finally:
+        os.umask(old)
+    side = (tmp_path / "fake.npz").stat().st_mode & 0o777
+    assert side == 0o644
+    for name in ("fake.json", "fake.md"):
+        assert (tmp_path / name).stat().st_mode & 0o777 == side, name
+    assert not list(tmp_path.glob(".fake.*.tmp"))
+
+
 def test_a_failed_case_leaves_the_previous_results_whole(tmp_path, monkeypatch):
     monkeypatch.setitem(cli.CASES, "fake", _case(1.0))
     cli.run_case("fake", quick=True, out_dir=tmp_path)

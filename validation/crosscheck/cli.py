@@ -44,13 +44,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("--toml", type=Path, help="supports and loads (default SCENE.toml)")
     parser.add_argument("--density", type=float, help="block density [kg/m^3]")
     parser.add_argument("--mu", type=float, help="friction coefficient [-]")
-    parser.add_argument("--fixed", help="comma-separated ids of fixed blocks")
+    parser.add_argument("--fixed", type=block_ids, help="comma-separated ids of fixed blocks")
     parser.add_argument("--fixed-group", help="comma-separated named cell groups to fix")
     parser.add_argument(
         "--fixed-below", type=float, help="fix every block whose centroid lies below this z [m]"
     )
     parser.add_argument("--no-pictures", action="store_true", help="write no PNG pictures")
     return parser
+
+
+def block_ids(text: str) -> tuple[int, ...]:
+    """``"0,3"`` as ``(0, 3)``; argparse names the option when it is not such a list."""
+    try:
+        return tuple(int(i) for i in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"block ids must be integers separated by commas, got {text!r}"
+        ) from None
 
 
 def join_signed_values(argv: Sequence[str]) -> list[str]:
@@ -73,7 +83,7 @@ def load_scene(args: argparse.Namespace):
     spec = SceneSpec(
         density=args.density,
         mu=args.mu,
-        fixed=tuple(int(i) for i in args.fixed.split(",")) if args.fixed else (),
+        fixed=args.fixed or (),
         fixed_below=args.fixed_below,
         fixed_groups=tuple(args.fixed_group.split(",")) if args.fixed_group else (),
         live=SceneSpec.direction(args.live) if args.live else None,
@@ -130,7 +140,7 @@ def _main_value(res: StepResult):
             if key == "lambda_max" and res.values.get("collapsed") is False:
                 # the end of a path, not a collapse multiplier
                 key = f"lambda reached ({res.values['termination']}, no collapse)"
-            return key, value / 1e6 if key.endswith("_Pa") else value
+            return key, value / 1e6 if key.endswith("_Pa") and value is not None else value
     return "", None
 
 
@@ -163,7 +173,7 @@ def settings_from(args: argparse.Namespace) -> CrosscheckSettings:
 
 def run(args: argparse.Namespace) -> int:
     """Run a cross-check from parsed arguments; 0 if consistent, 1 if a check failed, 2 on
-    bad input."""
+    bad input or an output folder that cannot be written."""
     out = args.out or Path(f"crosscheck-{args.scene.stem}")
     try:
         settings = settings_from(args)
@@ -171,8 +181,16 @@ def run(args: argparse.Namespace) -> int:
     except (ValueError, OSError) as exc:
         print(f"crosscheck: {exc}", file=sys.stderr)
         return 2
-    out.mkdir(parents=True, exist_ok=True)
-    with quiet(out / "crosscheck.log") as console:
+    log = out / "crosscheck.log"
+    try:
+        if out.exists() and not out.is_dir():
+            raise NotADirectoryError(f"{out} is a file, not a folder")
+        out.mkdir(parents=True, exist_ok=True)
+        log.touch()
+    except OSError as exc:
+        print(f"crosscheck: cannot write the output folder --out {out}: {exc}", file=sys.stderr)
+        return 2
+    with quiet(log) as console:
         console.write(f"{scene.name}: {scene.n_blocks} blocks -> {out}\n")
         progress = Progress(console, len(settings.steps()))
         result = crosscheck(scene, settings, out, progress)

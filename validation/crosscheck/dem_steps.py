@@ -7,7 +7,7 @@ import math
 from dataclasses import asdict, dataclass, replace
 
 from dem.explicit import simulate_lateral
-from dem.explicit.lateral import LiveLoadRamp
+from dem.explicit.lateral import DEVELOP_FACTOR, LiveLoadRamp
 from dem.scene import Scene
 from dem.static import StaticSettings, solve_collapse
 from validation.crosscheck.steps import (
@@ -104,10 +104,18 @@ class ExplicitLateral:
         res = simulate_lateral(scene, driver=driver)
         values = {
             "collapsed": bool(res.collapsed),
+            "mechanism_confirmed": bool(res.mechanism_confirmed),
             "lambda_stable": res.lambda_stable,
             "lambda_moving": finite_or_none(res.lambda_moving),
             "moving_blocks": [int(i) for i in res.moving_blocks],
             "detection_lambda": res.detection_lambda,
         }
+        reason = ""
+        if res.collapsed and not res.mechanism_confirmed:
+            reason = (
+                f"the motion at lambda = {res.lambda_moving:.4g} is not confirmed: no block "
+                f"moved {DEVELOP_FACTOR:g} displacement thresholds while it was followed, so it "
+                "may still stop (lambda_moving was found by speed alone)"
+            )
         settings = {"driver": res.driver, "solver": res.settings}
-        return StepResult(self.name, self.method, "ok", "", res.wall_s, settings, values, res)
+        return StepResult(self.name, self.method, "ok", reason, res.wall_s, settings, values, res)

@@ -13,6 +13,7 @@ placeholder.
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -83,6 +84,12 @@ class FemCheck:
         state = _state(ctx)
         if state is None:
             return StepResult(self.name, self.method, "skipped", "no static DEM state to check")
+        if not math.isfinite(state.values["lambda_max"]):
+            why = (
+                f"{state.name} ended by {state.values['termination']} at lambda = "
+                f"{state.values['lambda_max']}: no DEM state at a finite load to check"
+            )
+            return StepResult(self.name, self.method, "skipped", why)
         res = state.payload
         a = scene.assembly
         itf = a.interfaces()

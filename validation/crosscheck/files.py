@@ -114,7 +114,15 @@ def markdown(result, files: dict, payload: dict) -> str:
         "",
     ]
     fem = next((x for x in result.steps if x.name == "fem" and x.ok), None)
-    if fem is not None:
+    if fem is not None and not fem.values["n_solved"]:
+        lines += [
+            "## Block stresses at the DEM collapse state (FEM)",
+            "",
+            f"No block was solved at the state {fem.settings['state']} (lambda = "
+            f"{fem.settings['lambda']:.6g}): {_none_solved(fem)}.",
+            "",
+        ]
+    elif fem is not None:
         v = fem.values
         listed = _most_stressed(v["blocks"], v["residual_tolerance"])
         lines += [
@@ -156,6 +164,18 @@ def markdown(result, files: dict, payload: dict) -> str:
         *[f"- {x.name}: `{json.dumps(_jsonable(x.settings))}`" for x in result.steps],
     ]
     return "\n".join(lines)
+
+
+def _none_solved(fem) -> str:
+    """Why the FEM step solved no block."""
+    v = fem.values
+    why = [fem.reason] if fem.reason else []
+    if v["not_in_equilibrium"]:
+        why.append(
+            f"blocks {v['not_in_equilibrium']} are out of equilibrium (residual above "
+            f"{v['residual_tolerance']:g}): not solved"
+        )
+    return "; ".join(why) or "the scene has no free block"
 
 
 def _value(result, step: str, key: str):
@@ -200,10 +220,16 @@ def in_short(result) -> list[str]:
         _value(result, "explicit", "lambda_moving"),
     )
     if stable is not None:
-        out.append(
-            f"- Explicit DEM: at rest up to lambda = {stable:.4g}, "
-            + (f"moving at {moving:.4g}." if moving is not None else "no motion found.")
-        )
+        if moving is None:
+            end = "no motion found."
+        elif _value(result, "explicit", "mechanism_confirmed"):
+            end = f"moving at {moving:.4g}."
+        else:
+            end = (
+                f"moving at {moving:.4g}, not confirmed (the motion did not grow when followed "
+                "and may still stop)."
+            )
+        out.append(f"- Explicit DEM: at rest up to lambda = {stable:.4g}, {end}")
     d = result.scene.get("live_weight_direction")
     if d is not None:
         out.append(

@@ -118,7 +118,8 @@ def render_pushover(ctx: Context, png: Path) -> Path | None:
             exp.values["lambda_moving"],
             color="grey",
             alpha=0.2,
-            label="explicit bracket",
+            label="explicit bracket"
+            + ("" if exp.values["mechanism_confirmed"] else " (motion not confirmed)"),
         )
     ax.set_xlabel("control displacement (live-load weighted mean) [mm]")
     ax.set_ylabel("load multiplier lambda [-]")

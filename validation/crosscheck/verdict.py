@@ -10,7 +10,9 @@ What must hold between the methods (each line says which theorem or check it res
   ``max_steps`` or non-convergence), and ``lower <= lambda_DEM <= upper`` of the matching
   model (fibre law ~ vertex model, resultant law ~ resultant model);
 - the two DEM laws agree, or the report says why not;
-- the explicit bracket lies below the upper bound;
+- the explicit run collapsed, its motion confirmed (it grew when followed), its last state
+  at rest lies below the upper bound, and its bracket holds the static DEM multiplier (an
+  unconfirmed motion makes no bracket);
 - every block of the DEM collapse state is in equilibrium (FEM residual).
 """
 
@@ -169,9 +171,10 @@ def _law_checks(ctx: Context, law: str, rtol: float) -> list[Check]:
     name = f"DEM {law} law collapsed"
     detail = f"termination: {v['termination']}"
     if upper is not None and not math.isfinite(upper):
-        # no mechanism exists (associated upper bound unbounded): none is expected
+        # no mechanism exists (associated upper bound unbounded): none is expected, and a
+        # run without one is no collapse to check
         detail += f"; the limit analysis ({model}) finds no mechanism, so none is expected"
-        return [Check(name, NA if v["collapsed"] else PASS, lam, upper, detail)]
+        return [Check(name, NA, lam if v["collapsed"] else None, upper, detail)]
     out = [Check(name, PASS if v["collapsed"] else FAIL, lam, None, detail)]
     if upper is None:
         return out
@@ -234,15 +237,23 @@ def agreement_check(ctx: Context, agree_rtol: float) -> list[Check]:
 
 
 def explicit_checks(ctx: Context, rtol: float, agree_rtol: float) -> list[Check]:
-    """The explicit run found a collapse, and its last stable multiplier is below the upper
-    bound (a state at rest with Coulomb contacts is statically admissible)."""
+    """The explicit run found a collapse whose motion grew when followed (a motion that was
+    not confirmed may still stop: it is no collapse), and its last stable multiplier is below
+    the upper bound (a state at rest with Coulomb contacts is statically admissible)."""
     exp, lim = ctx.ok("explicit"), ctx.ok("limit-vertex")
     if exp is None:
         return []
     v = exp.values
     stable, moving = v["lambda_stable"], v["lambda_moving"]
+    confirmed = v["collapsed"] and v["mechanism_confirmed"]
     bracket = f"bracket ({stable:.4g}, {moving if moving is None else f'{moving:.4g}'}]"
-    out = [Check("explicit run collapsed", PASS if v["collapsed"] else FAIL, moving, None, bracket)]
+    detail = bracket
+    if v["collapsed"] and not confirmed:
+        detail += (
+            f"; the motion at {moving:.4g} is not confirmed: it did not grow when followed and "
+            "may still stop, so it is no collapse"
+        )
+    out = [Check("explicit run collapsed", PASS if confirmed else FAIL, moving, None, detail)]
     if lim is not None and math.isfinite(lim.values["upper"]):
         upper = lim.values["upper"]
         ok = _le(stable, upper, rtol, _unit(lim))
@@ -255,18 +266,29 @@ def explicit_checks(ctx: Context, rtol: float, agree_rtol: float) -> list[Check]
                 bracket,
             )
         )
-    return out + _explicit_vs_static(ctx, stable, moving, agree_rtol)
+    return out + _explicit_vs_static(ctx, stable, moving, confirmed, agree_rtol)
 
 
-def _explicit_vs_static(ctx: Context, stable, moving, agree_rtol: float) -> list[Check]:
+def _explicit_vs_static(
+    ctx: Context, stable, moving, confirmed: bool, agree_rtol: float
+) -> list[Check]:
     """The static DEM's collapse multiplier lies in the explicit bracket, widened by
-    ``agree_rtol`` (two DEM models of the same joints)."""
+    ``agree_rtol`` (two DEM models of the same joints); a bracket whose upper end is a motion
+    that was not confirmed is no agreement, and the line does not apply."""
     out = []
     for law in MODEL_OF_LAW:
         dem = ctx.ok(f"dem-{law}")
         if dem is None or not dem.values["collapsed"] or moving is None:
             continue
         lam = dem.values["lambda_max"]
+        name = f"explicit bracket holds the static DEM {law}"
+        if not confirmed:
+            detail = (
+                f"static DEM {lam:.4g}; the explicit motion at {moving:.4g} is not confirmed "
+                "(line 'explicit run collapsed'): its bracket is no agreement"
+            )
+            out.append(Check(name, NA, lam, moving, detail))
+            continue
         ok = stable * (1 - agree_rtol) <= lam <= moving * (1 + agree_rtol)
         detail = (
             f"static DEM {lam:.4g} against the bracket ({stable:.4g}, {moving:.4g}] widened by "
@@ -274,7 +296,6 @@ def _explicit_vs_static(ctx: Context, stable, moving, agree_rtol: float) -> list
         )
         if lam > moving * (1 + agree_rtol):
             detail += EXPLICIT_BELOW
-        name = f"explicit bracket holds the static DEM {law}"
         out.append(Check(name, PASS if ok else FAIL, lam, moving, detail))
     return out
 
