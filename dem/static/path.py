@@ -242,13 +242,16 @@ class PathFollower:
 
     def _warn_still_rising(self) -> None:
         """Warn when a plateau ends a path whose peak still rose by more than ``SLOW_RISE``
-        of itself over the last ``plateau_window`` of it: its steps each rose by less than
-        ten times lambda's noise, so they counted as flat. A block tipping on a 20 degree
-        slope (resultant law) ended so 12 % below its limit."""
+        of itself over the last ``plateau_window`` of it and that rose at each of its last
+        ``plateau_steps`` steps, by less than ten times lambda's noise, so they counted as
+        flat. A block tipping on a 20 degree slope (resultant law) ended so 12 % below its
+        limit. (A path that rose, then stayed flat, is not warned about.)"""
         criteria = self.criteria
         noise = self.corrector.tolerance(criteria.peak) / self.model.live_norm
         rise = criteria.recent_rise() / criteria.peak
-        if rise > SLOW_RISE and criteria.recent_rise() > 10.0 * noise:
+        last = criteria.lams[-self.settings.plateau_steps - 1 :]
+        creeping = all(b > a for a, b in zip(last[:-1], last[1:], strict=True))
+        if creeping and rise > SLOW_RISE and criteria.recent_rise() > 10.0 * noise:
             other = "the fibre law or " if self.model.law.settings.name == "resultant" else ""
             logger.warning(
                 "plateau at lambda = %.6g although lambda rose by %.2g %% over the last %g of "
