@@ -242,18 +242,17 @@ class PathFollower:
 
     def _warn_still_rising(self) -> None:
         """Warn when a plateau ends a path whose peak still rose by more than ``SLOW_RISE``
-        of itself over the last ``plateau_window`` of it and still creeps up: over its last
-        ``plateau_steps`` steps (each rising less than ten times lambda's noise, so counted
-        as flat) at more than a tenth of that stretch's mean slope, as an approach
-        ``lambda_inf - a / c`` does (half of it). A block tipping on a 20 degree slope
+        of itself over the last ``plateau_window`` of it and still creeps up: at its last
+        step (rising less than ten times lambda's noise, so counted as flat) at more than a
+        tenth of that stretch's mean slope, as an approach ``lambda_inf - a / c`` does (half
+        of it). A block tipping on a 20 degree slope
         (resultant law) ended so 12 % below its limit; a path that rose, then stayed flat at
         its limit (an arch at its exact 0.285159) is not warned about."""
         criteria = self.criteria
         noise = self.corrector.tolerance(criteria.peak) / self.model.live_norm
         rise = criteria.recent_rise() / criteria.peak
-        k = self.settings.plateau_steps
         ctrl, lams = criteria.ctrl, criteria.lams
-        slope_last = (lams[-1] - lams[-k - 1]) / max(ctrl[-1] - ctrl[-k - 1], 1e-300)
+        slope_last = (lams[-1] - lams[-2]) / max(ctrl[-1] - ctrl[-2], 1e-300)
         window = self.settings.plateau_window * (ctrl[-1] - ctrl[0])
         creeping = slope_last > 0.1 * criteria.recent_rise() / max(window, 1e-300)
         if creeping and rise > SLOW_RISE and criteria.recent_rise() > 10.0 * noise:
