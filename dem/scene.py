@@ -31,10 +31,18 @@ DENSITY_RATIO = 500.0
 (masses follow from sizes and densities; a thin plate's small mass is no units mistake)."""
 
 
+LARGE_BLOCK = 100.0
+"""Scenes whose median block is larger than this [m] get a :class:`MixedUnitsWarning` (a
+scene typed in mm: 200 x 200 x 400 "m" blocks)."""
+LIGHT_DENSITY = 10.0
+"""Scenes whose median density is below this [kg/m^3] get a :class:`MixedUnitsWarning` (a
+density typed in t/m^3)."""
+
+
 class MixedUnitsWarning(UserWarning):
-    """Block sizes or densities (hence masses) differ by orders of magnitude: a block typed in
-    mm among blocks in m, or a density in t/m^3 among kg/m^3. Filter it when the scene is
-    meant so."""
+    """Block sizes or densities (hence masses) differ by orders of magnitude, or are far from
+    any masonry or TIS scene in SI units: a block typed in mm among blocks in m, a whole scene
+    in mm, a density in t/m^3. Filter it when the scene is meant so."""
 
 
 def check_finite(**params) -> None:
@@ -59,8 +67,21 @@ def check_finite(**params) -> None:
 
 def warn_mixed_units(blocks: Sequence[ConvexBlock], density: np.ndarray) -> None:
     """Warn, naming the blocks, when sizes differ by more than :data:`SIZE_RATIO` or
-    densities by more than :data:`DENSITY_RATIO`."""
+    densities by more than :data:`DENSITY_RATIO`, or when the typical block is larger than
+    :data:`LARGE_BLOCK` or lighter than :data:`LIGHT_DENSITY` (a scene typed in mm, a density
+    in t/m^3)."""
     size = np.array([b.size for b in blocks])
+    typical_size, typical_density = float(np.median(size)), float(np.median(density))
+    for far, what in (
+        (typical_size > LARGE_BLOCK, f"the median block is {typical_size:.3g} m across"),
+        (typical_density < LIGHT_DENSITY, f"the median density is {typical_density:.3g} kg/m^3"),
+    ):
+        if far:
+            warnings.warn(
+                f"{what}: is the scene in SI units (m, kg/m^3), not mm or t/m^3?",
+                MixedUnitsWarning,
+                stacklevel=4,
+            )
     for what, values, unit, limit in (
         ("size", size, "m", SIZE_RATIO),
         ("density", density, "kg/m^3", DENSITY_RATIO),

@@ -228,3 +228,21 @@ def test_load_helpers_name_bad_blocks_and_values(cube_on_ground):
         point_load(a, 1.5, (0, 0, 0), (1, 0, 0))
     with pytest.raises(ValueError, match=r"^force must be finite"):
         point_load(a, 0, (0, 0, 0), (np.nan, 0, 0))
+
+
+def test_a_whole_scene_in_mm_or_a_density_in_tonnes_warns():
+    """A 0.2 x 0.2 x 0.4 m block on a 1 x 1 x 0.1 m ground, all typed in mm: the blocks agree
+    with each other, so only their size gives the units away (the median of the two bounding
+    box diagonals, 954 "m"); likewise a density of 2.4 for every block (t/m^3)."""
+    from dem.scene import MixedUnitsWarning
+
+    ground_mm = box_corners((-500.0, -500.0, -100.0), (500.0, 500.0, 0.0))
+    block_mm = box_corners((0, 0, 0), (200.0, 200.0, 400.0))
+    with pytest.warns(MixedUnitsWarning, match=r"median block is 954 m across: .* not mm"):
+        Scene.from_convex_blocks([ground_mm, block_mm], 2000.0, fixed=[0])
+    ground, block = ground_mm / 1000.0, block_mm / 1000.0
+    with pytest.warns(MixedUnitsWarning, match=r"median density is 2.4 kg/m\^3: .* t/m\^3"):
+        Scene.from_convex_blocks([ground, block], 2.4, fixed=[0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Scene.from_convex_blocks([ground, block], 2400.0, fixed=[0])
