@@ -670,14 +670,9 @@ def max_load_multiplier(
         f_t_si = np.asarray(f_t.value) * force_scale
         traction = np.asarray(dead_traction) + a_star * np.asarray(live_traction)
         eq, fr = admissibility_residuals(packing, traction, s_e, lam_si, f_t_si)
-        # dual velocities, normalised to unit live power (this fixes cvxpy's sign convention)
         y = np.asarray(constraints[0].dual_value, dtype=np.float64)
-        power = float(l_hat @ y)
-        v = y / power if power != 0.0 else np.full_like(y, np.nan)
-        jump_n, jump_t = A[:, :n_e].T @ v, A[:, n_e:].T @ v
-        upper = float(cap_hat @ np.abs(jump_t) - d_hat @ v) * alpha_unit
-        jump_max = float(np.max(np.abs(np.concatenate([jump_n, jump_t]))))
-        dual_res = max(float(np.max(-jump_n)), 0.0) / jump_max
+        upper, dual_res = _mechanism_bound(y, A, d_hat, l_hat, cap_hat)
+        upper *= alpha_unit
         tol = settings.feas_tol
         gap = abs(upper - a_star) / max(abs(a_star), abs(upper), tol * alpha_unit)
         checks = {
@@ -720,6 +715,21 @@ def max_load_multiplier(
         f"Tresca load multiplier: no certified optimum after {len(history)} solves ({text}); "
         f"last: {failure}"
     )
+
+
+def _mechanism_bound(y, A, d_hat, l_hat, cap_hat) -> tuple[float, float]:
+    """Kinematic multiplier of the mechanism read from the duals ``y`` of the (scaled)
+    balance rows ``A [lam; f_t] + d_hat + alpha l_hat = 0`` (notes of
+    :func:`max_load_multiplier`), and its largest interpenetration relative to its largest
+    jump [-]. The duals are cell velocities, normalised here to unit live power (which also
+    fixes cvxpy's sign convention)."""
+    power = float(l_hat @ y)
+    v = y / power if power != 0.0 else np.full_like(y, np.nan)
+    n_e = len(cap_hat)
+    jump_n, jump_t = A[:, :n_e].T @ v, A[:, n_e:].T @ v
+    upper = float(cap_hat @ np.abs(jump_t) - d_hat @ v)
+    jump_max = float(np.max(np.abs(np.concatenate([jump_n, jump_t]))))
+    return upper, max(float(np.max(-jump_n)), 0.0) / jump_max
 
 
 def _raise_multiplier_status(problem: cp.Problem, admissible, solver: str) -> None:
