@@ -28,7 +28,7 @@ import numpy as np
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
-from dem.geometry.clipping import clip_convex_polygons, polygon_properties
+from dem.geometry.clipping import clip_convex_polygons, counter_clockwise, polygon_properties
 from dem.geometry.interfaces import Interfaces
 from dem.geometry.polyhedron import ConvexBlock, clip_halfspace, plane_basis
 
@@ -238,8 +238,8 @@ def patch_face(block: ConvexBlock, patch: TractionPatch) -> tuple[int, float, fl
     dev = np.abs(patch.polygon @ block.normals.T - block.offsets)  # (k, n_faces)
     face = int(np.argmin(dev.max(axis=0)))
     basis = np.stack(plane_basis(block.normals[face]))
-    poly2 = _counter_clockwise(patch.polygon @ basis.T)
-    face2 = _counter_clockwise(block.vertices[block.faces[face]] @ basis.T)
+    poly2 = counter_clockwise(patch.polygon @ basis.T)
+    face2 = counter_clockwise(block.vertices[block.faces[face]] @ basis.T)
     area = polygon_properties(poly2)[0]
     inside = clip_convex_polygons(poly2, face2)
     area_inside = polygon_properties(inside)[0] if len(inside) >= 3 else 0.0
@@ -268,13 +268,6 @@ def check_patch_on_face(block: ConvexBlock, patch: TractionPatch, label: str = "
             f"{area:.3e} m^2 lie outside the face (tolerance {band * perimeter:.1e} m^2)"
         )
     return face
-
-
-def _counter_clockwise(poly2: np.ndarray) -> np.ndarray:
-    """(k, 2) corners of a planar polygon, reversed if needed to run counter-clockwise."""
-    x, y = poly2[:, 0], poly2[:, 1]
-    signed = np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)
-    return poly2 if signed >= 0 else poly2[::-1]
 
 
 # -- everything on one block -------------------------------------------------------------------

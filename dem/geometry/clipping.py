@@ -27,6 +27,14 @@ def clip_convex_polygons(subject: np.ndarray, clip: np.ndarray, tol: float = 0.0
     return clip_polygon(subject, clip, float(tol))
 
 
+def counter_clockwise(poly: np.ndarray) -> np.ndarray:
+    """(k, 2) corners of a simple polygon, reversed if they run clockwise."""
+    nxt = np.roll(poly, -1, axis=0)
+    if (poly[:, 0] * nxt[:, 1] - poly[:, 1] * nxt[:, 0]).sum() < 0.0:
+        return poly[::-1]
+    return poly
+
+
 def polygon_properties(poly: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
     """Area, centroid and second moments of a simple CCW polygon.
 

@@ -20,6 +20,7 @@ from typing import Protocol
 
 import numpy as np
 
+from dem.geometry.clipping import counter_clockwise
 from dem.geometry.interfaces import Interfaces
 from dem.kernels import fibre_law as fk
 from dem.kernels import interface_law as rk
@@ -203,9 +204,7 @@ def _corner_row(poly: np.ndarray, k: int) -> np.ndarray:
             f"interface {k} has {n} corners; the resultant law holds at most {MAX_VERTICES} "
             "(use the fibre law, or raise dem.kernels.contact_stress.MAX_VERTICES)"
         )
-    nxt = np.roll(poly, -1, axis=0)
-    if (poly[:, 0] * nxt[:, 1] - poly[:, 1] * nxt[:, 0]).sum() < 0.0:  # clockwise
-        poly = poly[::-1]
+    poly = counter_clockwise(poly)
     row = np.zeros(1 + 2 * MAX_VERTICES)
     row[0] = n
     row[1 : 1 + 2 * n] = poly.ravel()
