@@ -1,0 +1,168 @@
+"""A number with its error bar, as every method of the toolkit reports its headline value.
+
+An :class:`Estimate` is a value and the half-width of an interval that should contain the
+converged answer of the method's own model (the answer at zero load step, infinite grid,
+end of path, ...), broken down by source. The half-width is the sum of the sources'
+half-widths: the sources are not independent in general (a coarser grid and a shorter path
+push the same way), so they are added, not combined in quadrature. Two estimates agree when
+their intervals overlap.
+
+The error is estimated by the method itself from work it can do: a second run at a refined
+discretisation (with Richardson extrapolation where the order is known), a certified duality
+gap, a continuation. How much work is spent is the user's choice, :data:`ErrorBudget`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+ErrorBudget = Literal["none", "cheap", "full"]
+"""How much a method spends on its error estimate: ``"none"`` reports the value alone (its
+error is unknown, ``inf``), ``"cheap"`` uses what the run gives for free or one extra coarse
+run, ``"full"`` the refinements the method needs for a bar it can defend."""
+
+ERROR_BUDGETS: tuple[str, ...] = ("none", "cheap", "full")
+
+
+def check_error_budget(budget: str) -> str:
+    """Return ``budget`` if it is one of :data:`ERROR_BUDGETS`, else raise ``ValueError``."""
+    if budget not in ERROR_BUDGETS:
+        raise ValueError(f"error budget must be one of {ERROR_BUDGETS}, got {budget!r}")
+    return budget
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """A value and the half-width of the interval that should hold the converged answer.
+
+    Parameters
+    ----------
+    value
+        The method's answer, in the unit of the quantity.
+    sources
+        Source name -> half-width (same unit, >= 0, ``inf`` for an unbounded source), e.g.
+        ``{"load step": 1e-4, "end of path": 3e-4}``. No sources means an exact value.
+    cost_s
+        Wall time spent on the error estimate beyond the value itself [s].
+    notes
+        Anything a reader needs to read the bar (the order assumed, the levels used).
+    """
+
+    value: float
+    sources: Mapping[str, float] = field(default_factory=dict)
+    cost_s: float = 0.0
+    notes: str = ""
+
+    def __post_init__(self) -> None:
+        value = float(self.value)
+        if math.isnan(value):
+            raise ValueError("Estimate value is NaN")
+        clean = {}
+        for name, width in dict(self.sources).items():
+            w = float(width)
+            if math.isnan(w) or w < 0:
+                raise ValueError(f"error source {name!r} has half-width {width!r} (must be >= 0)")
+            clean[str(name)] = w
+        if not math.isfinite(self.cost_s) or self.cost_s < 0:
+            raise ValueError(f"cost_s must be finite and >= 0, got {self.cost_s!r}")
+        object.__setattr__(self, "value", value)
+        object.__setattr__(self, "sources", clean)
+        object.__setattr__(self, "cost_s", float(self.cost_s))
+
+    @classmethod
+    def unknown(cls, value: float, why: str = "not estimated") -> Estimate:
+        """A value whose error was not estimated (an infinite bar, never a silent zero)."""
+        return cls(value, {"not estimated": math.inf}, notes=why)
+
+    @property
+    def error(self) -> float:
+        """Half-width of the interval: the sum of the sources' half-widths."""
+        return float(sum(self.sources.values()))
+
+    @property
+    def lo(self) -> float:
+        return self.value - self.error
+
+    @property
+    def hi(self) -> float:
+        return self.value + self.error
+
+    def contains(self, x: float) -> bool:
+        """Whether ``x`` lies in ``[value - error, value + error]``."""
+        return self.lo <= float(x) <= self.hi
+
+    def overlaps(self, other: Estimate) -> bool:
+        """Whether the two intervals share a point (the agreement test of the cross-check)."""
+        return self.lo <= other.hi and other.lo <= self.hi
+
+    def with_source(self, name: str, width: float, cost_s: float = 0.0) -> Estimate:
+        """A copy with one more (or a replaced) error source, and its cost added."""
+        sources = dict(self.sources)
+        sources[name] = width
+        return Estimate(self.value, sources, self.cost_s + cost_s, self.notes)
+
+    def format(self, unit: str = "") -> str:
+        """``value ± error`` rounded to the digits the error supports, with ``unit``."""
+        text = format_estimate(self.value, self.error)
+        return f"{text} {unit}".rstrip()
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON types (an infinite half-width is the string ``"inf"``)."""
+        return {
+            "value": self.value,
+            "error": _json_float(self.error),
+            "sources": {k: _json_float(v) for k, v in self.sources.items()},
+            "cost_s": self.cost_s,
+            "notes": self.notes,
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Estimate:
+        return cls(
+            float(data["value"]),
+            {k: float(v) for k, v in data.get("sources", {}).items()},
+            float(data.get("cost_s", 0.0)),
+            str(data.get("notes", "")),
+        )
+
+
+def _json_float(x: float) -> float | str:
+    return x if math.isfinite(x) else str(x)
+
+
+def format_estimate(value: float, error: float, sig_error: int = 2) -> str:
+    """``value ± error`` with the error to ``sig_error`` significant digits and the value to
+    the same decimal place; an exact value keeps 6 significant digits, an unknown error
+    (``inf``) shows ``± ?`` after 4 significant digits."""
+    if not math.isfinite(value):
+        return str(value)
+    if math.isinf(error):
+        return f"{value:.4g} ± ?"
+    if error <= 0:
+        return f"{value:.6g}"
+    exponent = math.floor(math.log10(error)) - (sig_error - 1)
+    decimals = max(0, -exponent)
+    if abs(value) >= 1e6 or (value != 0 and abs(value) < 1e-4):
+        scale = math.floor(math.log10(abs(value))) if value != 0 else 0
+        digits = max(1, scale - exponent + 1)
+        return f"{value:.{digits - 1}e} ± {error:.{sig_error - 1}e}"
+    return f"{round(value, -exponent):.{decimals}f} ± {round(error, -exponent):.{decimals}f}"
+
+
+def richardson(coarse: float, fine: float, ratio: float, order: float) -> Estimate:
+    """Richardson extrapolation of two levels whose step differs by ``ratio`` (> 1) with
+    error ~ h**order: the extrapolated value, with the distance from the fine level as its
+    half-width (the fine level lies in the interval, so the bar holds even where the order is
+    not yet asymptotic)."""
+    if ratio <= 1 or order <= 0:
+        raise ValueError(f"richardson needs ratio > 1 and order > 0, got {ratio}, {order}")
+    factor = ratio**order - 1.0
+    extrapolated = fine + (fine - coarse) / factor
+    return Estimate(
+        extrapolated,
+        {"discretisation": abs(extrapolated - fine)},
+        notes=f"Richardson, ratio {ratio:g}, order {order:g}",
+    )

@@ -1,0 +1,57 @@
+"""The value-with-error type: interval arithmetic, rounding to the supported digits, and
+Richardson extrapolation against a closed-form sequence."""
+
+import math
+
+import pytest
+
+from dem.estimate import Estimate, check_error_budget, format_estimate, richardson
+
+
+def test_error_is_the_sum_of_the_sources_and_overlap_is_interval_overlap():
+    a = Estimate(1.0, {"step": 0.01, "grid": 0.02})
+    assert a.error == pytest.approx(0.03)
+    assert a.contains(1.03) and not a.contains(1.031)
+    assert a.overlaps(Estimate(1.05, {"x": 0.02}))
+    assert not a.overlaps(Estimate(1.05, {"x": 0.019}))
+
+
+def test_unknown_error_is_infinite_and_round_trips_through_json_types():
+    e = Estimate.unknown(0.3)
+    assert math.isinf(e.error) and e.contains(1e9)
+    d = e.to_dict()
+    assert d["error"] == "inf"
+    assert math.isinf(Estimate.from_dict(d).error)
+
+
+@pytest.mark.parametrize("bad", [-1e-3, float("nan")])
+def test_negative_or_nan_half_width_is_refused(bad):
+    with pytest.raises(ValueError, match="half-width"):
+        Estimate(1.0, {"step": bad})
+
+
+def test_nan_value_and_unknown_budget_are_refused():
+    with pytest.raises(ValueError, match="NaN"):
+        Estimate(float("nan"))
+    with pytest.raises(ValueError, match="error budget"):
+        check_error_budget("some")
+
+
+@pytest.mark.parametrize(
+    ("value", "error", "text"),
+    [
+        (0.014945566619567587, 0.00012, "0.01495 ± 0.00012"),
+        (0.28431, 0.0, "0.28431"),
+        (123.456, 2.3, "123.5 ± 2.3"),
+        (0.3, math.inf, "0.3 ± ?"),
+    ],
+)
+def test_format_keeps_the_digits_the_error_supports(value, error, text):
+    assert format_estimate(value, error) == text
+
+
+def test_richardson_recovers_the_limit_of_a_second_order_sequence():
+    # f(h) = 2 + 3 h^2: levels h = 0.2 and 0.1 extrapolate exactly to 2
+    est = richardson(2 + 3 * 0.04, 2 + 3 * 0.01, ratio=2.0, order=2.0)
+    assert est.value == pytest.approx(2.0)
+    assert est.contains(2 + 3 * 0.01)
