@@ -5,9 +5,11 @@ from __future__ import annotations
 import logging
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 
+from dem.estimate import ErrorBudget, Estimate, check_error_budget
 from dem.scene import Scene
 from dem.static.dead_load import solve_dead_load
 from dem.static.mechanism import no_mechanism_reason
@@ -20,7 +22,9 @@ from dem.static.settings import StaticSettings
 logger = logging.getLogger(__name__)
 
 
-def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> StaticResult:
+def solve_collapse(
+    scene: Scene, settings: StaticSettings | None = None, *, error: ErrorBudget = "cheap"
+) -> StaticResult:
     r"""Dead load, then the live load to collapse (seed 001, Sec. 2.3).
 
     Parameters
@@ -29,6 +33,11 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         Blocks, supports, dead load (self weight + ``dead_wrench``) and the live pattern
         ``live_wrench`` scaled by lambda.
     settings : StaticSettings, optional
+    error : {"none", "cheap", "full"}
+        What ``lambda_estimate`` spends: ``"cheap"`` the sources the path gives for free
+        (:meth:`dem.static.path.PathFollower.error_sources`); ``"full"`` also a second run at
+        twice the load step, whose change of ``lambda_max`` bounds the load-step error
+        (first order: the error of the finer run is about the change); ``"none"`` nothing.
 
     Returns
     -------
@@ -58,7 +67,7 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     rocking uplift of either law (both hinge a joint on its edges) against immovable supports
     (fixed columns) builds unbounded arching unless a ``compressive_strength`` bounds it.
     """
-    start = time.perf_counter()
+    check_error_budget(error)
     settings = StaticSettings() if settings is None else settings
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a dem.scene.Scene, got {type(scene).__name__}")
@@ -66,16 +75,47 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         raise TypeError(
             f"settings must be a dem.static.StaticSettings, got {type(settings).__name__}"
         )
+    result = _solve(scene, settings, error)
+    if error == "full" and result.collapsed:
+        result = _with_load_step_error(scene, settings, result)
+    if not result.collapsed and settings.on_failure == "raise":
+        raise NoCollapseError(result.failure, result)
+    return result
+
+
+def _solve(scene: Scene, settings: StaticSettings, error: str) -> StaticResult:
+    """One run to collapse (or not), with its free error sources unless ``error="none"``."""
+    start = time.perf_counter()
     model = Model(scene, settings)
     corrector = Corrector(model, settings)
     dead, n_iter = solve_dead_load(corrector)
     logger.debug("dead load: %d iterations", n_iter)
     reason = "" if settings.compressive_strength else no_mechanism_reason(model)
     if reason:
-        return _finish(model, _Unloaded(model, dead, n_iter), "no_mechanism", reason, start)
-    path = PathFollower(model, corrector, dead, n_iter)
-    termination, reason = path.run()
-    return _finish(model, path, termination, reason, start)
+        path, termination = _Unloaded(model, dead, n_iter), "no_mechanism"
+    else:
+        path = PathFollower(model, corrector, dead, n_iter)
+        termination, reason = path.run()
+    result = _finish(model, path, termination, reason, start)
+    if error == "none":
+        estimate = Estimate.unknown(result.lambda_max, 'error="none"')
+    else:
+        estimate = Estimate(result.lambda_max, path.error_sources(termination))
+    return replace(result, lambda_estimate=estimate)
+
+
+def _with_load_step_error(
+    scene: Scene, settings: StaticSettings, result: StaticResult
+) -> StaticResult:
+    """``result`` whose load-step source is the change of ``lambda_max`` at twice the load
+    step (``inf`` if that run does not collapse), not less than the free bound."""
+    coarse = _solve(scene, replace(settings, load_step=2 * settings.load_step), "none")
+    change = abs(coarse.lambda_max - result.lambda_max) if coarse.collapsed else math.inf
+    est = result.lambda_estimate
+    width = max(change, est.sources.get("load step", 0.0))
+    notes = f"load step: change of lambda_max at twice the step ({coarse.lambda_max:.6g})"
+    estimate = replace(est.with_source("load step", width, coarse.wall_s), notes=notes)
+    return replace(result, lambda_estimate=estimate)
 
 
 class _Unloaded:
@@ -94,6 +134,10 @@ class _Unloaded:
     def pushover(self) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros(1), np.array([self.c0])
 
+    def error_sources(self, termination: str) -> dict[str, float]:
+        """None: the multiplier is unbounded, exactly."""
+        return {}
+
 
 def _monitor(model: Model, settings: StaticSettings, mech: np.ndarray) -> tuple[int, int]:
     """The ``(block, dof)`` recorded along the pushover."""
@@ -108,7 +152,7 @@ def _monitor(model: Model, settings: StaticSettings, mech: np.ndarray) -> tuple[
 
 
 def _finish(model: Model, path, termination: str, reason: str, start: float) -> StaticResult:
-    """The :class:`StaticResult` of a run; raise :class:`NoCollapseError` per ``on_failure``."""
+    """The :class:`StaticResult` of a run (its ``lambda_estimate`` not yet estimated)."""
     settings = model.settings
     mech = model.full(path.last_du)
     scale = np.abs(mech[:, :3]).max()
@@ -145,6 +189,7 @@ def _finish(model: Model, path, termination: str, reason: str, start: float) -> 
         failure="" if collapsed else reason,
         termination=termination,
         wall_s=time.perf_counter() - start,
+        lambda_estimate=Estimate.unknown(float(peak.lam)),
         settings=settings.to_dict(),
     )
     logger.info(
@@ -156,6 +201,4 @@ def _finish(model: Model, path, termination: str, reason: str, start: float) -> 
         result.wall_s,
         termination,
     )
-    if not collapsed and settings.on_failure == "raise":
-        raise NoCollapseError(reason, result)
     return result
