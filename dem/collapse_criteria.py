@@ -157,9 +157,10 @@ class CollapseCriteria:
             q = d2 / d1 if d1 > 0 else math.inf
         return d2 * q / (1.0 - q) if q <= Q_CONVERGING else math.inf
 
-    def converging(self) -> bool:
-        """Whether the path approaches a limit (its remaining rise is finite)."""
-        return math.isfinite(self.remaining_rise())
+    def approaching(self) -> bool:
+        """Whether the path is flat against its start (its last step counted towards a
+        plateau) and approaches a limit (its remaining rise is finite)."""
+        return self.n_plateau > 0 and math.isfinite(self.remaining_rise())
 
     def add(
         self,

@@ -14,7 +14,8 @@ Each live step prescribes the increment of a control ``w . u`` and solves for ``
   creeping in steps of 1e-3 first increments at a constant lambda (S6: stalled after 715 s);
 - **step size**: the increment adapts to the Newton iteration count (``target_iterations``),
   halves on a failed step, and stays within ``max_step_factor`` first increments unless the
-  path approaches a limit (:meth:`dem.collapse_criteria.CollapseCriteria.converging`): then
+  path is flat and approaches a limit
+  (:meth:`dem.collapse_criteria.CollapseCriteria.approaching`): then
   it may keep doubling, so that the path samples its approach in a geometric progression
   and reaches a slow limit (``s^{-1/2}``) in a few dozen steps;
 - **cracking cascade**: when no step converges and the failed trial broke mortar joints, the
@@ -258,7 +259,7 @@ class PathFollower:
         target = self.settings.target_iterations
         growth = 1.0 if out.loose else math.sqrt(target / max(out.iterations, 1))
         self.dc *= min(max(growth, 0.5), 2.0)
-        if not self.criteria.converging():
+        if not self.criteria.approaching():
             self.dc = min(self.dc, self.dc_max)
         return None
 
