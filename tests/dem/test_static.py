@@ -151,20 +151,27 @@ def test_path_followed_past_a_stall_of_the_fixed_control():
     # seed 001 S15 with return walls of blocks, resultant law: with a tangent floor of 1e-6
     # the fixed control c stalled at 0.1726 (step cut to 1e-4 of the first, lambda still
     # rising) with seed 001's rocking rule; the path-direction control had to carry it to the
-    # plateau. With the joints that open progressively neither run stalls (issue 11); both
-    # must still reach the same plateau (rtol 1 %), below the associated bound of the scene.
+    # plateau. With the joints that open progressively neither run stalls (issue 11): the
+    # default floor ends where lambda may rise by less than 0.1 %; the floor of 1e-6 creeps
+    # on in short steps and may end at max_steps, still rising, which is then no collapse
+    # and says how much more lambda may rise. Both must agree within 1 % and within their
+    # bars, below the associated bound of the scene.
     from dem.scenes.seed001_walls import SPECIMENS
     from limit.problems import LimitSettings
     from limit.solve import limit_analysis
 
     scene = SPECIMENS["restrepo-S15"].build(return_walls="blocks")
-    stalled, direct = (
+    floored, direct = (
         solve_collapse(scene, StaticSettings(mu=0.7, on_failure="return", **kw))
         for kw in (dict(tangent_floor=1e-6), dict(load_step=0.02))
     )
-    assert stalled.termination == direct.termination == "plateau"
-    np.testing.assert_allclose(stalled.lambda_max, direct.lambda_max, rtol=1e-2)
-    assert stalled.lambda_max <= limit_analysis(scene, LimitSettings()).lam
+    assert direct.termination == "plateau"
+    assert floored.termination in ("plateau", "max_steps")
+    assert floored.collapsed == (floored.termination == "plateau")
+    np.testing.assert_allclose(floored.lambda_max, direct.lambda_max, rtol=1e-2)
+    assert floored.lambda_estimate.overlaps(direct.lambda_estimate)
+    upper = limit_analysis(scene, LimitSettings()).lam
+    assert max(floored.lambda_max, direct.lambda_max) <= upper
 
 
 def test_unsupported_block_is_named():
