@@ -86,9 +86,15 @@ class LateralResult:
         Blocks moving at ``lambda_moving`` once the motion was followed (displaced more than
         ``displacement_tol`` or faster than ``speed_tol``).
     mechanism_confirmed : bool
-        The motion at ``lambda_moving`` grew to several displacement thresholds when followed
-        (False: a slow motion that may still stop; ``lambda_moving`` is then an upper end
-        found by speed alone).
+        The motion at ``lambda_moving`` grew to several displacement thresholds when followed,
+        or it jumped far past the elastic response and stopped (``arrested``). False: a slow
+        motion that may still stop; ``lambda_moving`` is then an upper end found by speed
+        alone.
+    arrested : bool
+        The mechanism formed at ``lambda_moving`` and stopped after a finite motion (blocks
+        bearing on each other after finite rotations, e.g. columns side by side): the collapse
+        of the rigid-block methods, in small displacements; the structure may carry more with
+        its deformed geometry.
     record_lambda : (r,) float
         Multiplier at the end of each ramp-and-hold step, in the order run (bisection trials
         included).
@@ -127,6 +133,7 @@ class LateralResult:
     settings: dict
     driver: dict
     info: dict = field(default_factory=dict)
+    arrested: bool = False
 
 
 def curve_summary(

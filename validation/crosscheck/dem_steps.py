@@ -105,6 +105,7 @@ class ExplicitLateral:
         values = {
             "collapsed": bool(res.collapsed),
             "mechanism_confirmed": bool(res.mechanism_confirmed),
+            "arrested": bool(res.arrested),
             "lambda_stable": res.lambda_stable,
             "lambda_moving": finite_or_none(res.lambda_moving),
             "moving_blocks": [int(i) for i in res.moving_blocks],
@@ -116,6 +117,13 @@ class ExplicitLateral:
                 f"the motion at lambda = {res.lambda_moving:.4g} is not confirmed: no block "
                 f"moved {DEVELOP_FACTOR:g} displacement thresholds while it was followed, so it "
                 "may still stop (lambda_moving was found by speed alone)"
+            )
+        if res.arrested:
+            reason = (
+                f"the mechanism formed at lambda = {res.lambda_moving:.4g} and stopped after a "
+                "finite motion (blocks bearing on each other after finite rotations): the "
+                "bracket is its onset, the collapse of the rigid-block methods in small "
+                "displacements"
             )
         settings = {"driver": res.driver, "solver": res.settings}
         return StepResult(self.name, self.method, "ok", reason, res.wall_s, settings, values, res)
