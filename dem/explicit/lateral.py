@@ -43,6 +43,7 @@ from typing import Protocol
 
 import numpy as np
 
+from dem.explicit.diagnosis import pair_forces
 from dem.explicit.model import ExplicitModel, require_free_block
 from dem.explicit.results import LateralResult
 from dem.explicit.settings import ExplicitSettings, RelaxationSettings
@@ -268,6 +269,8 @@ def simulate_lateral(
     relax_info = model.relax(relaxation)
     run = _RampHold(model, driver, scene)
     outcome = run.to_collapse()
+    model.restore(outcome["state_stable"])
+    at_rest = pair_forces(model)
     return LateralResult(
         collapsed=outcome["collapsed"],
         lambda_stable=outcome["lambda_stable"],
@@ -275,6 +278,7 @@ def simulate_lateral(
         moving_blocks=outcome["moving_blocks"],
         mechanism_confirmed=outcome["mechanism_confirmed"],
         arrested=outcome["arrested"],
+        contacts_at_rest=at_rest,
         record_lambda=np.asarray(run.rec_lambda),
         record_displacement=np.asarray(run.rec_disp),
         record_time=np.asarray(run.rec_time),
@@ -363,6 +367,7 @@ class _RampHold:
             "lambda_stable": lam,
             "lambda_moving": lam_moving,
             "moving_blocks": moving_blocks,
+            "state_stable": saved,
         }
 
     def _onset(self, increment: float) -> tuple[bool, np.ndarray]:

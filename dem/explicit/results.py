@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from dem.explicit.diagnosis import PairForces
     from dem.explicit.model import ExplicitModel
 
 PEAK_DROP_FRACTION = 0.85
@@ -95,6 +96,10 @@ class LateralResult:
         bearing on each other after finite rotations, e.g. columns side by side): the collapse
         of the rigid-block methods, in small displacements; the structure may carry more with
         its deformed geometry.
+    contacts_at_rest : PairForces or None
+        The pairs of blocks in contact at the last state at rest (``lambda_stable``), with
+        their forces, reference gaps and whether they share a face interface
+        (:func:`dem.explicit.diagnosis.pair_forces`).
     record_lambda : (r,) float
         Multiplier at the end of each ramp-and-hold step, in the order run (bisection trials
         included).
@@ -134,6 +139,7 @@ class LateralResult:
     driver: dict
     info: dict = field(default_factory=dict)
     arrested: bool = False
+    contacts_at_rest: PairForces | None = None
 
 
 def curve_summary(
