@@ -2,8 +2,9 @@
 
 - A volume mesh read with meshio (gmsh ``.msh``, ``.vtu``, ``.vtk``, ``.xdmf``, ...): one block
   per 3D cell (tetrahedra, hexahedra, wedges, pyramids or VTK polyhedra). Cells must be linear.
-- Surfaces of convex bodies (OBJ, STL, PLY, OFF through meshio), one file or a folder of them:
-  one block per connected component of the surface.
+- Surfaces of convex bodies (OBJ, STL, PLY, OFF), one file or a folder of them: one block per
+  object (OBJ ``o``/``g``, STL ``solid``) and, within an object, per body of faces joined
+  across shared edges (:mod:`dem.surface_io`); an open body is refused.
 - The project's scene JSON (:meth:`dem.Scene.from_json`).
 
 A cell or body is accepted only if it is convex: its corners are exactly the corners of their
@@ -170,46 +171,21 @@ def blocks_of_mesh(mesh, label: str = "mesh") -> list[ConvexBlock]:
     ]
 
 
-def _merged(points: np.ndarray, faces: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
-    """Merge points closer than ``PLANE_TOL`` times the extent (STL repeats every corner)."""
-    scale = float(np.linalg.norm(np.ptp(points, axis=0))) or 1.0
-    keys = np.round(points / (PLANE_TOL * scale * 10)).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.ravel()
-    return points[first], [inverse[f] for f in faces]
-
-
-def _bodies(path: Path) -> list[tuple[np.ndarray, list[np.ndarray]]]:
-    """Connected components (points, faces) of the surface in one file."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    mesh = _read(path)
-    faces = [np.asarray(f) for cb in mesh.cells if cb.dim == 2 for f in cb.data]
-    if not faces:
-        raise ValueError(f"{path}: no surface polygons to make bodies of")
-    points, faces = _merged(np.asarray(mesh.points, dtype=float), faces)
-    rows = np.concatenate([np.repeat(f[0], len(f)) for f in faces])
-    cols = np.concatenate(faces)
-    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(points),) * 2)
-    n, label = connected_components(graph, directed=False)
-    used = np.zeros(len(points), dtype=bool)
-    used[cols] = True
-    out = []
-    for c in sorted(set(label[used].tolist())):
-        ids = np.flatnonzero((label == c) & used)
-        local = np.full(len(points), -1)
-        local[ids] = np.arange(len(ids))
-        out.append((points[ids], [local[f] for f in faces if label[f[0]] == c]))
-    return out
-
-
 def blocks_from_surfaces(path: str | Path) -> list[ConvexBlock]:
     """One convex block per closed body in a surface file, or in every such file of a folder.
 
-    Files of a folder are read in name order; the bodies of a file in the order of their
-    first point. A body is named in errors by its file and its index in that file.
+    Bodies are found by :func:`dem.surface_io.read_surface_bodies`: by object (OBJ
+    ``o``/``g``, STL ``solid``), then by faces joined across shared edges, never by corners
+    merged across objects (blocks of a wall share corners). Files of a folder are read in
+    name order. A body is named in errors by its file, its index in that file and its object.
+
+    Raises
+    ------
+    ValueError
+        No surface file, an open body (its open edges named) or a body that is not convex.
     """
+    from dem.surface_io import read_surface_bodies
+
     path = Path(path)
     files = (
         sorted(p for p in path.iterdir() if p.suffix.lower() in SURFACE_SUFFIXES)
@@ -220,8 +196,9 @@ def blocks_from_surfaces(path: str | Path) -> list[ConvexBlock]:
         raise ValueError(f"{path}: no {'/'.join(SURFACE_SUFFIXES)} files in the folder")
     blocks = []
     for f in files:
-        for k, (pts, faces) in enumerate(_bodies(f)):
-            blocks.append(checked_block(pts, faces, f"body {k} of {f.name}"))
+        for k, body in enumerate(read_surface_bodies(f)):
+            named = f" (object {body.name!r})" if body.name else ""
+            blocks.append(checked_block(body.points, body.faces, f"body {k} of {f.name}{named}"))
     return blocks
 
 
