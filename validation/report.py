@@ -178,8 +178,13 @@ def reading_dir() -> Path:
 
 def output_dir() -> Path:
     """Where a running case writes its side products: its staging directory inside
-    :func:`staged`, else :func:`reading_dir`."""
-    return _STAGING.get() or reading_dir()
+    :func:`staged`; outside a run (a test or a script calling a case's function) the folder
+    :data:`RESULTS_ENV` names, or the quick folder, never the committed full results."""
+    stage = _STAGING.get()
+    if stage is not None:
+        return stage
+    chosen = reading_dir()
+    return QUICK_RESULTS_DIR if chosen == RESULTS_DIR else chosen
 
 
 def input_path(name: str) -> Path:

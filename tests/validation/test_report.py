@@ -286,3 +286,10 @@ def test_sweep_records_carry_the_commit_clean_flag_date_and_wall_time(tmp_path):
     for record in summary.records():
         assert record["git_commit"] == git_commit() and record["git_clean"] in (True, False)
         assert record["date"].startswith("20") and record["wall_s"] >= 0
+
+
+def test_outside_a_run_side_products_never_go_to_the_committed_results(monkeypatch):
+    from validation.report import QUICK_RESULTS_DIR, RESULTS_DIR
+
+    monkeypatch.delenv("BLOCKMECH_RESULTS", raising=False)
+    assert output_dir() == QUICK_RESULTS_DIR != RESULTS_DIR
