@@ -122,3 +122,16 @@ def test_a_gapped_panel_relaxed_until_settled_is_in_balance_unlike_as_built():
     assert built["relax_unbalanced_ratio"] > 0.5
     assert settled["relax_unbalanced_ratio"] <= RelaxationSettings().unbalanced_tol
     assert settled["relax_steps"] > built["relax_steps"]
+
+
+def test_stats_rows_carry_the_bootstrap_bar_of_the_mean():
+    """A uq row's ours is the mean with its bootstrap half-width (source 'sampling'), close to
+    the t interval's (normal samples, n = 40: the ratio is 0.95 in expectation)."""
+    from validation.cases.uq import _stats_rows
+
+    x = np.random.default_rng(11).normal(5.0, 1.0, 40)
+    (row,) = _stats_rows("x", x, "N", {})
+    assert row.ours == pytest.approx(x.mean())
+    assert set(row.error_sources) == {"sampling"}
+    assert row.ours_error == pytest.approx(mean_ci(x)[1], rel=0.2)
+    assert set(row.extra["bootstrap"]) == {"mean", "std", "q05", "q50", "q95"}
