@@ -40,7 +40,8 @@ from fem_check.loads import (
 from fem_check.mesh import MeshSettings, mesh_polyhedra
 from fem_check.recovery import cut_resultant, recover_nodal_stress, stress_at_corners, summarise
 from fem_check.stress_output import stress_field, write_vtu
-from validation.report import RESULTS_DIR, Row, output_dir
+from validation.provenance import REPO
+from validation.report import Row, input_path, output_dir
 
 K_N_SEED_000 = 2.25 * GPA / MM  # k_n^def of the 5 x 5 panels, seed 000 Sec. 5.1.2 [Pa/m]
 M_5X5, L_5X5 = 6, 50.0 * MM  # interfaces across a row of the 5 x 5 panel and its length
@@ -626,7 +627,7 @@ def run_tis_stress(quick: bool):
     """Recovered stresses of the 49 blocks of a 5 x 5 panel at peak load."""
     degree = 2
     h = 1.6 * MM if quick else 1.1 * MM
-    state = tis_stress_state(RESULTS_DIR / "tis-peak-state.npz")
+    state = tis_stress_state(input_path("tis-peak-state.npz"))
     t0 = time.perf_counter()
     try:
         sols, records, solver = solve_assembly(state.blocks, state.loads, state.fixed, degree, h)
@@ -876,7 +877,7 @@ def read_masonry_state(path: Path) -> MasonryState:
         lam = float(data[key]) if key else 0.0
     scene_path = Path(scene_json)
     if not scene_path.is_absolute() and not scene_path.exists():
-        scene_path = RESULTS_DIR.parent.parent / scene_path  # relative to the repository
+        scene_path = REPO / scene_path  # relative to the repository
     scene = Scene.from_json(scene_path)
     a = scene.assembly
     itf = a.interfaces()
@@ -939,10 +940,10 @@ def solve_masonry_blocks(state: MasonryState, solver: BlockSolver) -> MasonryBlo
 def run_masonry_stress(quick: bool, path: Path | None = None, out_dir: Path | None = None):
     """Recovered stresses of a masonry wall at collapse (from the masonry DEM state).
 
-    ``path`` defaults to ``validation/results`` (the masonry case's output), ``out_dir`` to the
-    case's staging directory; tests point them elsewhere.
+    ``path`` defaults to the masonry case's output (:func:`validation.report.input_path`),
+    ``out_dir`` to the case's staging directory; tests point them elsewhere.
     """
-    path = RESULTS_DIR / "masonry-collapse-state.npz" if path is None else Path(path)
+    path = input_path("masonry-collapse-state.npz") if path is None else Path(path)
     out_dir = output_dir() if out_dir is None else Path(out_dir)
     if not path.exists():
         notes = MASONRY_MISSING_NOTE.format(name=path.name)

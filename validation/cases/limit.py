@@ -28,12 +28,13 @@ from limit.errors import DeadLoadInfeasibleError, LimitAnalysisError, NoMechanis
 from limit.estimates import bounds_and_estimates, reduced_friction
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
-from validation.report import RESULTS_DIR, Row, output_dir
+from validation.report import Row, final_path, output_dir
 
 logger = logging.getLogger(__name__)
 
 MODELS = ("vertex", "resultant")
-MECHANISM_DIR = RESULTS_DIR / "limit_mechanisms"
+MECHANISM_DIR = "limit_mechanisms"
+"""Folder of the mechanisms' side products, inside the results folder."""
 SEED = "seed 001 (Baraldi & Cecchi)"
 KPA = 1e3
 
@@ -469,8 +470,8 @@ def _save_mechanism(key: str, scene: Scene, result) -> str:
 
     try:
         # into the run's staging directory: moved into place with the table (report.staged)
-        write_mechanism(scene, result, output_dir() / MECHANISM_DIR.name / key)
-        return str((MECHANISM_DIR / key).with_suffix(".npz"))
+        write_mechanism(scene, result, output_dir() / MECHANISM_DIR / key)
+        return final_path(f"{MECHANISM_DIR}/{key}.npz")
     except Exception as exc:  # pyvista missing or a write error: the table still stands
         logger.warning("could not write the mechanism of %s: %s", key, exc)
         return ""

@@ -41,7 +41,7 @@ from dem.tis_stiffness import (
     tis_panel_k_def,
 )
 from dem.units import GPA, MM
-from validation.report import RESULTS_DIR, Row
+from validation.report import Row, output_dir
 
 logger = logging.getLogger(__name__)
 
@@ -236,8 +236,7 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
             rows += _curve_rows(label, res, _disc_settings(disc, k_n), extra)
             _store_curves(store, f"{n}x{n}_{theta:g}_{model}", res, scene)
             if (n, theta, model) == (5, 2.5, "perfect"):
-                RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-                np.savez(RESULTS_DIR / "tis-peak-state.npz", **res.peak_state)
+                np.savez(output_dir() / "tis-peak-state.npz", **res.peak_state)
     # ratios the seed's Tables 1 and 2 imply, and the exact homogeneity prediction
     for (n, theta, model), res in results.items():
         if model != "calibrated":
@@ -286,8 +285,7 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
             {"increasing_with_theta": bool(np.all(np.diff(peaks) > 0))},
         ))  # fmt: skip
     rows += _stability_rows(quick, disc, store)
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-panels-curves.npz", **store)
+    np.savez(output_dir() / "tis-panels-curves.npz", **store)
     notes = (
         "Explicit LS-DEM-style runs (dem.explicit). k_def = (n+1) E / L with E = 18.75 GPa, "
         "implied by the seed's 2.25 GPa/mm for the 5x5 panel; k_imp by Eq. (4) with k_gaps = "
@@ -422,8 +420,7 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
     ))  # fmt: skip
     store["converged/delta"] = full.delta
     store["converged/load"] = full.load
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-convergence-curves.npz", **store)
+    np.savez(output_dir() / "tis-convergence-curves.npz", **store)
     notes = (
         "5x5 panel, theta = 2.5 deg, k_n = 2.25 GPa/mm. Each sweep varies one parameter around "
         f"the base {base} and runs until the load has dropped to 85 % of the peak; its error is "
@@ -491,8 +488,7 @@ def run_friction(quick: bool) -> tuple[list[Row], str]:
         {"std_over_mean": float(np.std(peaks) / np.mean(peaks)),
          "mean_energy_ratio": float(np.mean(energies)) / det[0.23].loading_energy},
     ))  # fmt: skip
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-friction-curves.npz", **store)
+    np.savez(output_dir() / "tis-friction-curves.npz", **store)
     notes = (
         "Panel of seed 000 Fig. 9 taken as the 5x5, theta = 5 deg calibration panel with "
         "k_imp (k_gaps = 0.65 GPa/mm); per-block mu drawn with numpy default_rng(seed) from "

@@ -58,13 +58,14 @@ from limit.errors import LimitAnalysisError
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
 from validation.cases.tis import CONVERGED, QUICK, THICKNESS_MM, mechanism
-from validation.report import RESULTS_DIR, Row, output_dir
+from validation.report import Row, input_path, output_dir, results_dir
 from validation.sweep import latest_records, make_tasks, run_sweep
 from validation.sweep.stats import mean_ci
 
 logger = logging.getLogger(__name__)
 
-SWEEPS_DIR = RESULTS_DIR / ".sweeps"
+SWEEPS = ".sweeps"
+"""The working stores' folder inside the results folder of the run (git-ignored)."""
 ROOT = Path(__file__).resolve().parents[2]
 CURVE_POINTS = 150
 TIS_N, TIS_THETA = 5, 2.5
@@ -83,7 +84,8 @@ def code_fingerprint() -> str:
 
 
 def store_dir(case: str, quick: bool) -> Path:
-    return SWEEPS_DIR / (f"{case}-quick" if quick else case)
+    """The working store of a study, in the sweeps folder of the full or quick results."""
+    return results_dir(quick) / SWEEPS / (f"{case}-quick" if quick else case)
 
 
 def _sweep(case: str, fn, params: list[dict], root_seed: int, quick: bool, prefix: str):
@@ -180,7 +182,7 @@ def _tis_params(quick: bool, k_n: float) -> dict:
 
 def _seed_spread() -> tuple[np.ndarray, str]:
     """P_max / P_max(mu = 0.23) of the realisations in tis-friction's results, if present."""
-    path = RESULTS_DIR / "tis-friction.json"
+    path = input_path("tis-friction.json")
     if not path.exists():
         return np.array([]), "tis-friction not run"
     data = json.loads(path.read_text())
