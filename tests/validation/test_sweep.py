@@ -208,6 +208,7 @@ def test_a_second_sweep_cannot_touch_a_running_sweeps_records(tmp_path):
     second.close()
     assert (tmp_path / "superseded" / "1" / "results.jsonl").exists()
 
+
 KILLED_SWEEP = textwrap.dedent(
     """
     import sys

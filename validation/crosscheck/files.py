@@ -96,6 +96,7 @@ def markdown(result, files: dict, payload: dict) -> str:
         f"{[round(v / 1e3, 4) for v in s['live_resultant_N']]} kN; extent "
         f"{[round(v, 4) for v in s['extent_m']]} m; friction {s['mu']}.",
         *_edge_contacts(s.get("edge_contacts", [])),
+        *_warnings(s.get("meta", {}).get("warnings", []) + list(result.warnings)),
         "",
         "## In short",
         "",
@@ -283,3 +284,10 @@ def _edge_contacts(pairs: list) -> list[str]:
         f"({pair_list(pairs, 10)}): the static DEM and the limit analysis carry no force there "
         "(face interfaces only); the explicit DEM's nodes do.",
     ]
+
+
+def _warnings(messages: list[str]) -> list[str]:
+    """The warnings of reading the scene and of the run, which did not stop it."""
+    if not messages:
+        return []
+    return ["", "## Warnings", "", *[f"- {m}" for m in messages]]

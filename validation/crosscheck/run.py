@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -113,6 +114,8 @@ class CrosscheckResult:
         Written files by key (``report_md``, ``scene``, ``mechanism``, ...).
     wall_s : float
         [s].
+    warnings : list of str
+        Warnings the steps raised (each message once), repeated in the report.
     """
 
     scene: dict
@@ -120,6 +123,7 @@ class CrosscheckResult:
     checks: list[Check]
     files: dict = field(default_factory=dict)
     wall_s: float = 0.0
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def consistent(self) -> bool:
@@ -204,15 +208,19 @@ def crosscheck(
     settings = settings or CrosscheckSettings()
     start = time.perf_counter()
     ctx = Context(settings)
-    for step in settings.steps():
-        if progress:
-            progress("start", step, None)
-        res = run_step(step, scene, ctx)
-        logger.info("%s: %s %s (%.1f s)", step.name, res.status, res.reason, res.wall_s)
-        if progress:
-            progress("end", step, res)
+    with warnings.catch_warnings(record=True) as seen:
+        for step in settings.steps():
+            if progress:
+                progress("start", step, None)
+            res = run_step(step, scene, ctx)
+            logger.info("%s: %s %s (%.1f s)", step.name, res.status, res.reason, res.wall_s)
+            if progress:
+                progress("end", step, res)
+    for w in seen:  # shown or logged as they would have been, and kept for the report
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     checks = verdict(ctx, settings.rtol)
     result = CrosscheckResult(scene_summary(scene), list(ctx.results.values()), checks)
+    result.warnings = list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in seen))
     if out_dir is not None:
         result.files = write_report(scene, ctx, result, Path(out_dir), settings.pictures)
     result.wall_s = time.perf_counter() - start
