@@ -19,9 +19,10 @@ meshes (mesh size times :data:`MESH_RATIO` per level):
     that grow (:math:`p` below the range: the value runs away under refinement, as a peak at
     a singular point does) give an infinite bar, named ``"mesh (diverging)"``; steps that shrink
     faster than the range allows keep the cheap bar. Steps of opposite signs (oscillating
-    convergence, where no order can be read) give the larger step (Celik et al. 2008). Steps within :data:`ROUND_OFF` of the
-    value are round-off (an exact value, such as a linear stress field with P2). Every bar
-    adds that fraction of the value, the resolution of the solves.
+    convergence, where no order can be read) give the larger step (Celik et al. 2008). Steps
+    within :data:`ROUND_OFF` of the value are round-off (an exact value, such as a linear
+    stress field with P2). Every bar adds that fraction of the value, the resolution of the
+    solves.
 
 With P1 displacements (``"cheap"`` or ``"full"``) the reference is the P2 solution on the same
 mesh, source ``"P1/P2"`` = :math:`|s_{P1} - s_{P2}|`. The extremes of P1 stresses (constant per
