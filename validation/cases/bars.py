@@ -1,0 +1,68 @@
+"""Error bars the validation cases compute themselves, where no method gives one.
+
+- :func:`exact`: a count or a value that is exact by construction (source ``"exact"``, 0);
+- :func:`round_off`: a value that is exact up to float64 round-off, measured by evaluating it
+  again on a rigidly moved copy (every rounding changes, the value must not): the bar is the
+  difference, at least one machine epsilon of the value;
+- :func:`two_levels`: a value at the finer of two discretisation levels, with the difference
+  to the coarser level as its bar (the finer level's error when the value converges
+  monotonically at order at least 1: :math:`|s_h - s_\\infty| \\le |s_h - s_{2h}|`).
+
+No bar here is a guess: each is computed from the case's own runs, or is zero by
+construction, or is :meth:`dem.estimate.Estimate.unknown`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from dem.estimate import Estimate
+from dem.scene import Assembly
+
+EPS = float(np.finfo(float).eps)
+MOVE_ROTATION = (0.3, -0.2, 0.5)
+"""Rotation vector [rad] of the moved copy (any rotation that is not a symmetry will do)."""
+
+
+def exact(value: float, why: str = "") -> Estimate:
+    """A value exact by construction (a count, an identity): bar 0, source ``"exact"``."""
+    return Estimate(float(value), {"exact": 0.0}, notes=why)
+
+
+def moved_copy(assembly: Assembly, offset: float = 0.37) -> Assembly:
+    """The assembly rotated by :data:`MOVE_ROTATION` and shifted by ``offset`` [m] along each
+    axis, rebuilt from its vertices (volumes, interfaces recomputed)."""
+    from scipy.spatial.transform import Rotation
+
+    rot = Rotation.from_rotvec(MOVE_ROTATION).as_matrix()
+    vertices = [b.vertices @ rot.T + offset for b in assembly.blocks]
+    return Assembly.from_convex_blocks(vertices, assembly.density, assembly.mu)
+
+
+def round_off(value: float, again: float, what: str = "") -> Estimate:
+    """``value`` with the round-off bar ``max(|value - again|, eps |value|)``, ``again`` being
+    the same quantity evaluated on a rigidly moved copy."""
+    width = max(abs(value - again), EPS * abs(value))
+    return Estimate(float(value), {"round-off": width}, notes=f"moved copy gives {again!r} {what}")
+
+
+def two_levels(fine: float, coarse: float, source: str, notes: str = "") -> Estimate:
+    """``fine`` with the bar ``|fine - coarse|`` named ``source`` (module notes), and one
+    machine epsilon of round-off (two levels that agree to the last bit still round)."""
+    if not (math.isfinite(fine) and math.isfinite(coarse)):
+        return Estimate.unknown(fine, f"{source}: a level is not finite")
+    sources = {source: abs(fine - coarse), "round-off": EPS * abs(fine)}
+    return Estimate(float(fine), sources, notes=notes)
+
+
+def explicit_bracket(lambda_stable: float, lambda_moving: float, detection: float) -> Estimate:
+    """The explicit DEM's ``lambda_moving`` with the bar of its load-step bracket: the collapse
+    multiplier of the explicit model lies in ``(lambda_stable - detection, lambda_moving]``
+    (``detection``: how far a motion can sit undetected within the longest hold). Its other
+    sources (time step, loading rate, node spacing) are not estimated here: an infinite
+    source says so until the explicit DEM gives its own estimate."""
+    width = lambda_moving - (lambda_stable - detection)
+    sources = {"load-step bracket": width, "time step, rate, node spacing": math.inf}
+    return Estimate(float(lambda_moving), sources, notes="explicit bracket only")
