@@ -66,3 +66,34 @@ def explicit_bracket(lambda_stable: float, lambda_moving: float, detection: floa
     width = lambda_moving - (lambda_stable - detection)
     sources = {"load-step bracket": width, "time step, rate, node spacing": math.inf}
     return Estimate(float(lambda_moving), sources, notes="explicit bracket only")
+
+
+def static_lambda(result, scale: float = 1.0) -> Estimate:
+    """The static DEM's collapse multiplier times ``scale`` with the solver's own error bar
+    (``StaticResult.lambda_estimate``: load step, fibre grid, end of path), scaled; unknown
+    where the solver gives none."""
+    own = getattr(result, "lambda_estimate", None)
+    if own is None:
+        return Estimate.unknown(result.lambda_max * scale, "the static DEM gives no error bar")
+    sources = {k: w * abs(scale) for k, w in own.sources.items()}
+    return Estimate(result.lambda_max * scale, sources, own.cost_s, own.notes)
+
+
+def proportion(count: int, n: int) -> Estimate:
+    """The fraction ``count / n`` of a sample as an estimate of the population's, with the
+    half-width that covers its 95 % Wilson score interval (source ``"sampling"``)."""
+    from scipy.stats import binomtest
+
+    if n < 1:
+        raise ValueError(f"a proportion needs n >= 1 samples, got {n}")
+    p = count / n
+    ci = binomtest(count, n).proportion_ci(confidence_level=0.95, method="wilson")
+    half = max(ci.high - p, p - ci.low, 0.0)
+    return Estimate(p, {"sampling": half}, notes=f"Wilson 95 % [{ci.low:.4g}, {ci.high:.4g}]")
+
+
+def diagnostic(value: float) -> Estimate:
+    """A row whose value is itself a discrepancy (two routes, a residual, a fitted check
+    against 0): its own bar would need the routes' bars, which are not estimated, so it is
+    unknown and says why."""
+    return Estimate.unknown(value, "a discrepancy between two computations: no bar of its own")
