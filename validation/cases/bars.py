@@ -97,3 +97,14 @@ def diagnostic(value: float) -> Estimate:
     against 0): its own bar would need the routes' bars, which are not estimated, so it is
     unknown and says why."""
     return Estimate.unknown(value, "a discrepancy between two computations: no bar of its own")
+
+
+def per_unit(estimate: Estimate | None, unit: float, value: float | None = None) -> Estimate:
+    """``estimate`` in a table's unit (every half-width divided by ``unit`` too); without an
+    estimate, ``value / unit`` with an unknown bar."""
+    if estimate is None:
+        if value is None:
+            raise ValueError("per_unit needs an estimate or a value")
+        return Estimate.unknown(value / unit, "the method gives no error bar for this value")
+    sources = {k: w / abs(unit) for k, w in estimate.sources.items()}
+    return Estimate(estimate.value / unit, sources, estimate.cost_s, estimate.notes)
