@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import TextIO
 
 from dem.units import LENGTH_UNITS
+from validation.crosscheck.pictures import PictureOptions
 from validation.crosscheck.run import METHODS, CrosscheckResult, CrosscheckSettings, crosscheck
 from validation.crosscheck.steps import Step, StepResult
 from validation.quiet import quiet, table
@@ -61,6 +62,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
         "(default m; a scene that looks like mm read as m is refused without it)",
     )
     parser.add_argument("--no-pictures", action="store_true", help="write no PNG pictures")
+    parser.add_argument(
+        "--block-numbers", action="store_true", help="write the block numbers in the 3D pictures"
+    )
+    parser.add_argument(
+        "--pushover-tail",
+        action="store_true",
+        help="draw the whole static DEM path (default: up to its collapse region)",
+    )
     return parser
 
 
@@ -219,7 +228,8 @@ def summary(result: CrosscheckResult) -> str:
 
 def settings_from(args: argparse.Namespace) -> CrosscheckSettings:
     methods = tuple(m.strip() for m in args.methods.split(",") if m.strip())
-    kw = {"methods": methods, "pictures": not args.no_pictures}
+    pictures = PictureOptions(args.block_numbers, args.pushover_tail)
+    kw = {"methods": methods, "pictures": False if args.no_pictures else pictures}
     return CrosscheckSettings.quick(**kw) if args.quick else CrosscheckSettings(**kw)
 
 

@@ -17,6 +17,7 @@ from limit import LimitSettings
 from validation.crosscheck.dem_steps import ExplicitLateral, StaticCollapse
 from validation.crosscheck.fem_step import FemCheck
 from validation.crosscheck.limit_steps import DeadLoadCheck, LimitBounds
+from validation.crosscheck.pictures import PictureOptions
 from validation.crosscheck.steps import Context, Step, StepResult, run_step
 from validation.crosscheck.verdict import FAIL, Check, verdict
 
@@ -48,8 +49,9 @@ class CrosscheckSettings:
     rtol : float
         Relative slack of the verdict's inequalities where an error bar is not estimated
         [-]; agreement is decided by the methods' error bars (:mod:`.verdict`).
-    pictures : bool
-        Draw the PNG pictures (the VTU files are always written).
+    pictures : bool or PictureOptions
+        Draw the PNG pictures (the VTU files are always written); a
+        :class:`~validation.crosscheck.pictures.PictureOptions` says what they show.
     """
 
     methods: tuple[str, ...] = METHODS
@@ -59,7 +61,7 @@ class CrosscheckSettings:
     fem: FemCheck = field(default_factory=FemCheck)
     max_updates: int | None = None
     rtol: float = 1e-3
-    pictures: bool = True
+    pictures: bool | PictureOptions = True
 
     def __post_init__(self):
         unknown = set(self.methods) - set(METHODS)
