@@ -157,6 +157,11 @@ class LimitSettings:
         Largest accepted relative certificate residual (equilibrium, cones, gap) [-].
     clarabel : dict
         Further Clarabel settings (e.g. ``{"direct_solve_method": "qdldl"}``).
+    torsion_bending : bool
+        Resultant model, associated problem only: reduce the torsion capacity with bending,
+        ``|M3|`` below the tangent plane at ``e = 0`` of ``mu c c_T(l_u - 2|e_u|, l_v -
+        2|e_v|)``, the capacity of the reduced rectangle (rectangular interfaces; seed 001
+        Fig. 10, Orduna and Lourenco 2005a). Default False.
     dead_load_check : bool
         Before a multiplier is returned, prove that the dead load alone is carried
         (:func:`limit.stands`: one more solve of the same size). Without it, a structure that
@@ -214,6 +219,7 @@ class LimitSettings:
         return replace(self, **kw)
 
     def to_dict(self) -> dict:
+        """Every setting by name (for results and JSON)."""
         return {k: getattr(self, k) for k in self.__dataclass_fields__}
 
 
@@ -267,7 +273,7 @@ class StaticProblem:
     weight, length, lam_scale : float
         Scales ``W`` [N], ``L`` [m] and ``W/|F_L|``.
     row_scale : (n_free,) float
-        Equilibrium row ``i`` was multiplied by ``row_scale[i]``.
+        Equilibrium row ``i`` is multiplied by ``row_scale[i]``.
     interfaces, vertex_iface, vertex_local, mu_interface, c_t
         Geometry and strength data for post-processing.
     """
