@@ -18,9 +18,11 @@ meshes (mesh size times :data:`MESH_RATIO` per level):
     with the three-grid safety factor 1.25, :math:`1.25\,|s_h - s_{2h}| / (2^p - 1)`. Steps
     that grow (:math:`p` below the range: the value runs away under refinement, as a peak at
     a singular point does) give an infinite bar, named ``"mesh (diverging)"``; steps that shrink
-    faster than the range allows keep the cheap bar. Steps within :data:`ROUND_OFF` of the
-    value are round-off (an exact value, such as a linear stress field with P2). Every bar
-    adds that fraction of the value, the resolution of the solves.
+    faster than the range allows keep the cheap bar. Steps of opposite signs (oscillating
+    convergence, where no order can be read) give the larger step (Celik et al. 2008). Steps
+    within :data:`ROUND_OFF` of the value are round-off (an exact value, such as a linear
+    stress field with P2). Every bar adds that fraction of the value, the resolution of the
+    solves.
 
 With P1 displacements (``"cheap"`` or ``"full"``) the reference is the P2 solution on the same
 mesh, source ``"P1/P2"`` = :math:`|s_{P1} - s_{P2}|`. The extremes of P1 stresses (constant per
@@ -89,6 +91,9 @@ def level_estimate(values: list[float], budget: ErrorBudget, cost_s: float = 0.0
     before = abs(values[1] - values[2])
     if before <= floor and step <= floor:
         return Estimate(fine, {"mesh": max(step, before) + floor}, cost_s, "steps at round-off")
+    if (values[0] - values[1]) * (values[1] - values[2]) < 0 and step > floor:
+        note = "oscillating levels: the larger of the two steps"
+        return Estimate(fine, {"mesh": max(step, before) + floor}, cost_s, note)
     if step <= floor or before / step > MESH_RATIO ** ORDER_RANGE[1]:
         note = "steps shrink faster than order 4: |s_h - s_2h|"
         return Estimate(fine, {"mesh": step + floor}, cost_s, note)

@@ -210,9 +210,9 @@ def structural_error(status: str, outcomes: dict, history: str) -> LimitAnalysis
 
 
 def attempts_for(sp_: StaticProblem) -> tuple[Attempt, ...]:
-    """A programme of second-order cones only (vertex model) is first solved without
-    Clarabel's iterative refinement of the KKT solves, which costs 15-25 % on large walls and
-    changed no certified result we measured."""
+    """The Clarabel attempts of a programme, in order: one of second-order cones only (vertex
+    model) is first solved without iterative refinement of the KKT solves (the certificate
+    decides whether that solve is good enough; refinement is the next attempt)."""
     if sp_.model == "vertex" and "iterative_refinement_enable" not in sp_.settings.clarabel:
         return (Attempt("fast", refine=False), REFINED, TIGHTENED)
     return (REFINED, TIGHTENED)

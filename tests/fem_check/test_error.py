@@ -92,3 +92,11 @@ def test_cut_check_residual_is_the_distance_to_the_loads_on_one_side():
         assert est.sources["equilibrium residual"] == pytest.approx(abs(est.value - exact))
     inertia = (2 * D) * (2 * C) ** 3 / 12
     assert abs(check.moment_exact[2]) == pytest.approx(A * inertia, rel=1e-9)
+
+
+def test_oscillating_levels_get_the_larger_step():
+    """Levels that go up then down (no order can be read): the bar is the larger of the two
+    steps, which holds a limit lying anywhere between the two finest levels and beyond."""
+    est = level_estimate([1.00, 1.10, 1.04], "full")
+    assert est.error == pytest.approx(0.10 + 1e-9, rel=1e-9)
+    assert est.contains(1.10) and est.contains(0.95)

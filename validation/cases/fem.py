@@ -20,10 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.geometry.polyhedron import ConvexBlock, convex_block
 from dem.units import GPA, MM, MPA
 from fem_check.admissible import admissible_resultants, nodal_forces
 from fem_check.elastic import BlockSolver, ElasticMaterial, ShapeOperator
+from fem_check.error import ROUND_OFF, reference_solvers, solve_with_error
 from fem_check.loads import (
     BlockLoad,
     EquilibriumError,
@@ -40,6 +42,7 @@ from fem_check.loads import (
 from fem_check.mesh import MeshSettings, mesh_polyhedra
 from fem_check.recovery import cut_resultant, recover_nodal_stress, stress_at_corners, summarise
 from fem_check.stress_output import stress_field, write_vtu
+from validation.cases.bars import diagnostic, two_levels
 from validation.provenance import REPO
 from validation.report import Row, input_path, output_dir
 
@@ -149,7 +152,7 @@ def _patch_test_rows() -> list[Row]:
             rows.append(
                 Row(
                     f"patch test P{degree}: max |sigma - sigma_exact| / p, {name} [-]",
-                    float(val),
+                    diagnostic(float(val)),
                     0.0,
                     "closed form sigma = -p a a (uniform compression of a prism)",
                     wall,
@@ -179,7 +182,7 @@ def _cauchy_convergence_rows(block, load, cuts, refs, sizes_mm, degree: int) -> 
         rows.append(
             Row(
                 f"Cauchy cuts P{degree}, h={h_mm} mm: rms |F_cut - F_side| / load scale [-]",
-                err,
+                diagnostic(err),
                 0.0,
                 "Cauchy: loads on one side of each cut (exact integration)",
                 time.perf_counter() - t0,
@@ -197,7 +200,7 @@ def _cauchy_convergence_rows(block, load, cuts, refs, sizes_mm, degree: int) -> 
     rows.append(
         Row(
             f"Cauchy cuts P{degree}: observed rate of the cut force error [-]",
-            float(rate),
+            two_levels(float(rate), float(last), "fit window", "all sizes against the last pair"),
             float(degree),
             "a priori stress error O(h^p) of P_p elements",
             None,
@@ -270,19 +273,25 @@ def run_strip(quick: bool):
     """Effective modulus of a bonded strip of inclined-face blocks, and the matching k_n."""
     rows: list[Row] = []
     thetas = [0.0, 5.0, 10.0] if quick else [0.0, 2.5, 5.0, 7.5, 10.0]
-    sizes = [1.5 * MM] if quick else [1.5 * MM, 1.0 * MM]
+    sizes = [2.0 * MM, 1.5 * MM] if quick else [1.5 * MM, 1.0 * MM]
     for theta in thetas:
+        runs = []
         for h in sizes:
             t0 = time.perf_counter()
-            r = strip_stiffness(theta, h)
-            wall = time.perf_counter() - t0
+            runs.append((h, strip_stiffness(theta, h), time.perf_counter() - t0))
+        ratios = [r["E_eff"] / YOUNG for _, r, _ in runs]
+        for i, (h, r, wall) in enumerate(runs):
+            other = 1 if i == 0 else i - 1
+            ours = two_levels(ratios[i], ratios[other], "mesh", f"h {h / MM:g} against "
+                              f"{runs[other][0] / MM:g} mm")  # fmt: skip
+            ours = ours.with_source("round-off of the solves", ROUND_OFF * abs(ratios[i]))
             k_match = r["M"] * r["E_eff"] / r["length"]
             k_eq3 = r["M"] * YOUNG / r["length"]
             settings = {"theta_deg": theta, "h_mm": h / MM, "degree": 2, "dofs": r["dofs"]}
             rows.append(
                 Row(
                     f"strip theta={theta:g} deg, h={h / MM:g} mm: E_eff / E [-]",
-                    r["E_eff"] / YOUNG,
+                    ours,
                     1.0,
                     f"{SEED}: k_n = M E / L assumes the strip is as stiff as a prism of E",
                     wall,
@@ -476,7 +485,7 @@ def _dem_state_check(blocks, loads, fixed, rel_tol: float = 1e-3):
     rows = [
         Row(
             f"DEM state: largest free-block {kind} imbalance [-]",
-            val,
+            diagnostic(val),
             0.0,
             "equilibrium of a DEM state (with its -m a)",
             None,
@@ -645,7 +654,7 @@ def run_tis_stress(quick: bool):
     rows = [
         *state.check_rows,
         *_tis_equilibrium_rows(panel, settings, t_solve, state.source),
-        *_tis_peak_rows(panel, settings, t_recover, h, refine=not quick),
+        *_tis_peak_rows(panel, solver, settings, t_recover, refine=not quick),
         _tis_wall_time_row(solver, settings, t_solve, t_recover),
     ]
     worst = _most_stressed(panel)
@@ -688,7 +697,7 @@ def _tis_equilibrium_rows(panel: SolvedBlocks, settings: dict, t_solve: float, s
     return [
         Row(
             "largest load imbalance of a free block, max |F|/scale, |M|/(scale size) [-]",
-            float(res_free.max()),
+            diagnostic(float(res_free.max())),
             0.0,
             "a DEM state is in equilibrium (with -m a)",
             t_solve,
@@ -697,7 +706,7 @@ def _tis_equilibrium_rows(panel: SolvedBlocks, settings: dict, t_solve: float, s
         ),
         Row(
             "largest resultant of the assembled load vectors R^T f / scale [-]",
-            float(disc.max()),
+            diagnostic(float(disc.max())),
             0.0,
             "consistent load mapping preserves the resultant",
             None,
@@ -706,10 +715,11 @@ def _tis_equilibrium_rows(panel: SolvedBlocks, settings: dict, t_solve: float, s
     ]
 
 
-def _tis_peak_rows(panel: SolvedBlocks, settings: dict, t_recover: float, h: float, refine: bool):
-    """The largest principal stress anywhere, and farther than 2h from every point force (point
-    forces make mesh-dependent peaks where they act); ``refine`` adds that block's values at
-    0.7 h."""
+def _tis_peak_rows(panel: SolvedBlocks, solver, settings: dict, t_recover: float, refine: bool):
+    """The largest principal stress anywhere (with its mesh bar, :func:`_peak_estimate`), and
+    farther than 2h from every point force (point forces make mesh-dependent peaks where they
+    act); ``refine`` adds that block's values at 0.7 h, and their difference as its bar."""
+    h = solver.mesh_settings.size
     worst = _most_stressed(panel)
     wq = panel.summaries[worst]
     far = [
@@ -718,12 +728,18 @@ def _tis_peak_rows(panel: SolvedBlocks, settings: dict, t_recover: float, h: flo
     ]
     worst_far = int(np.argmax([v for v, _ in far]))
     refined = {}
+    away = Estimate.unknown(far[worst_far][0] / MPA, "no refined run (quick, or a support)")
     if refine and not panel.records[worst_far]["supported"]:
         refined = _refined_peak(panel, worst_far, h, settings["degree"])
+        away = two_levels(away.value, refined["away_fine_MPa"], "mesh", "h against 0.7 h")
+    peak = Estimate.unknown(wq.max_principal / MPA, "a block on a support is not re-solved")
+    if not panel.records[worst]["supported"]:
+        budget = "full" if refine else "cheap"
+        peak = _peak_estimate(solver, panel.blocks[worst], panel.loads[worst], budget, peak.value)
     return [
         Row(
             f"most stressed block: largest principal stress [MPa] (block {worst})",
-            wq.max_principal / MPA,
+            peak,
             None,
             "",
             t_recover,
@@ -739,7 +755,7 @@ def _tis_peak_rows(panel: SolvedBlocks, settings: dict, t_recover: float, h: flo
         Row(
             f"largest principal stress farther than 2h from any point force [MPa] "
             f"(block {worst_far})",
-            far[worst_far][0] / MPA,
+            away,
             None,
             "",
             None,
@@ -751,6 +767,16 @@ def _tis_peak_rows(panel: SolvedBlocks, settings: dict, t_recover: float, h: flo
             },
         ),
     ]
+
+
+def _peak_estimate(solver, block, load, budget: str, value_mpa: float) -> Estimate:
+    """The largest principal stress ``value_mpa`` of a free block [MPa] with the mesh bar of
+    :func:`fem_check.error.solve_with_error` (coarser levels; infinite where the peak
+    diverges under refinement, as under a point force)."""
+    refs = reference_solvers(solver, budget)
+    _, est = solve_with_error(solver, block, load, refs, budget, "most stressed block")
+    e = est.max_principal
+    return Estimate(value_mpa, {k: w / MPA for k, w in e.sources.items()}, e.cost_s, e.notes)
 
 
 def _refined_peak(panel: SolvedBlocks, i: int, h: float, degree: int) -> dict:
@@ -774,7 +800,7 @@ def _tis_wall_time_row(solver, settings: dict, t_solve: float, t_recover: float)
     timing = {k: round(v, 3) for k, v in solver.timings.items()}
     return Row(
         "wall time, all blocks incl. meshing, P2 [s]",
-        float(t_solve + t_recover),
+        Estimate.unknown(t_solve + t_recover, "a wall time on a shared machine"),
         60.0,
         "issue 6 target (under 60 s on 2 cores)",
         t_solve + t_recover,
@@ -794,7 +820,7 @@ def _cut_row(i: int, block, sol, load, reference: str, settings: dict) -> Row:
     scale = sol.equilibrium.scale
     return Row(
         f"Cauchy cut x = x_c + w/8, block {i}: |F_cut - F_side| / load scale [-]",
-        float(np.linalg.norm(f_cut - f_ref) / scale),
+        diagnostic(float(np.linalg.norm(f_cut - f_ref) / scale)),
         0.0,
         reference,
         None,
@@ -961,7 +987,7 @@ def run_masonry_stress(quick: bool, path: Path | None = None, out_dir: Path | No
     rows = [
         Row(
             "largest load imbalance of a free block in its free dofs [-]",
-            float(max(wall.imbalance)),
+            diagnostic(float(max(wall.imbalance))),
             0.0,
             "a collapse state is in equilibrium",
             time.perf_counter() - t_total,
@@ -981,7 +1007,13 @@ def run_masonry_stress(quick: bool, path: Path | None = None, out_dir: Path | No
         ),
         Row(
             f"most stressed block: largest principal stress [MPa] (block {i_worst})",
-            summaries[worst].max_principal / MPA,
+            _peak_estimate(
+                solver,
+                state.scene.assembly.blocks[i_worst],
+                wall.loads[worst],
+                "cheap" if quick else "full",
+                summaries[worst].max_principal / MPA,
+            ),
             None,
             "",
             None,

@@ -28,6 +28,7 @@ from limit.errors import DeadLoadInfeasibleError, LimitAnalysisError, NoMechanis
 from limit.estimates import bounds_and_estimates, reduced_friction
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
+from validation.cases.bars import exact, per_unit, static_lambda
 from validation.report import Row, final_path, output_dir
 
 logger = logging.getLogger(__name__)
@@ -109,7 +110,7 @@ def _bounds_rows(
     rows = [
         Row(
             f"{label} [{model}] upper bound {unit_label}",
-            b.upper / unit,
+            per_unit(b.upper_estimate, unit),
             reference,
             source,
             b.wall_s["upper"],
@@ -118,7 +119,7 @@ def _bounds_rows(
         ),
         Row(
             f"{label} [{model}] estimate (a) mu* {unit_label}",
-            None if b.reduced_mu is None else b.reduced_mu / unit,
+            None if b.reduced_mu is None else per_unit(b.reduced_mu_estimate, unit, b.reduced_mu),
             est_ref,
             source,
             b.wall_s["reduced_mu"],
@@ -134,7 +135,7 @@ def _bounds_rows(
     rows.append(
         Row(
             f"{label} [{model}] lower bound (frictionless) {unit_label}",
-            None if b.lower is None else b.lower / unit,
+            None if b.lower is None else per_unit(None, unit, b.lower),
             None,
             "Radenkovic second theorem (mu = 0)",
             b.wall_s.get("lower"),
@@ -184,7 +185,7 @@ def _iterative_row(quantity, b, reference, source, settings, max_updates, unit, 
     it = b.iterative
     return Row(
         quantity,
-        None if it.lam is None else it.lam / unit,
+        None if it.lam is None else per_unit(it.estimate, unit, it.lam),
         reference,
         source,
         it.wall_s,
@@ -399,7 +400,7 @@ def _closed_form_row(model: str, form: ClosedForm) -> Row:
     res = limit_analysis(scene, settings)
     return Row(
         form.quantity.format(model=model),
-        res.lam,
+        res.lambda_estimate,
         expected,
         form.source,
         time.perf_counter() - t,
@@ -426,7 +427,7 @@ def _harmonic_rows(model: str, eps: float = 1e-3) -> list[Row]:
         rows.append(
             Row(
                 f"harmonic stack n = 4 at {factor:g} x classical overhang stands (1/0) [{model}]",
-                stands,
+                exact(stands, "a certified yes or no of the limit analysis"),
                 expected,
                 "classical harmonic overhang (L/2) H_n",
                 time.perf_counter() - t,
@@ -580,10 +581,11 @@ def _friction_polygon_rows(n: int, variant: str) -> list[Row]:
             settings = _joint_settings(spec, model, friction_polygon=sides)
             t = time.perf_counter()
             try:
-                lam = limit_analysis(scene, settings).lam
+                res = limit_analysis(scene, settings)
+                lam, est = res.lam, res.lambda_estimate
             except LimitAnalysisError as exc:
                 logger.info("polygon %s failed: %s", sides, exc)
-                lam = None
+                lam = est = None
             if sides is None:
                 exact[model] = lam
                 continue
@@ -591,7 +593,7 @@ def _friction_polygon_rows(n: int, variant: str) -> list[Row]:
                 Row(
                     f"orduna {n}x13, {variant} [{model}] upper bound, inscribed "
                     f"{sides}-gon friction lambda [-]",
-                    lam,
+                    est,
                     exact[model],
                     "the same programme with exact cones",
                     time.perf_counter() - t,
@@ -811,6 +813,7 @@ def _dem_collapse(scene: Scene, spec, settings: LimitSettings, dem_model: str) -
             ),
         )
         out["termination"], out["reached"] = dem.termination, float(dem.lambda_max)
+        out["estimate"] = static_lambda(dem) if dem.collapsed else None
         # a run that did not collapse has no collapse multiplier to compare
         out["lam"] = out["reached"] if dem.collapsed else None
         out["error"] = dem.failure
@@ -837,7 +840,7 @@ def _vs_dem_row(key, spec, dem_model, our_model, settings, bounds: dict, dem: di
     return Row(
         f"{key}: DEM {dem_model} vs {our_model} upper bound "
         f"{'p [kN/m^2]' if pressure else 'lambda [-]'}",
-        scaled(lam_dem),
+        None if lam_dem is None else per_unit(dem.get("estimate"), unit, lam_dem),
         scaled(upper),
         f"associated upper bound, {our_model} model (limit analysis)",
         dem["wall_s"],

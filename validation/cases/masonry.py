@@ -39,6 +39,7 @@ from dem.scenes.seed001_walls import (
 )
 from dem.static import StaticResult, StaticSettings, StaticSolverError, solve_collapse
 from dem.units import MPA, N_MM3
+from validation.cases.bars import static_lambda
 from validation.report import Row, final_path, input_path, output_dir
 
 logger = logging.getLogger(__name__)
@@ -118,7 +119,7 @@ def _row(
     wall = time.perf_counter() - start
     # a run that did not collapse has no collapse multiplier: never reported as one
     collapsed = result is not None and result.collapsed
-    ours = result.lambda_max * scale if collapsed else None
+    ours = static_lambda(result, scale) if collapsed else None
     extra = {
         "model": model,
         "supports_variant": variant,
@@ -189,13 +190,14 @@ def _no_collapse_list(rows: list[Row]) -> str:
 
 FIBRE_CHECK_POINTS = 7
 """Lobatto points per side of the fibre law's grid check (the default grid has 5)."""
+FIBRE_GRID_SOURCE = f"fibre grid (against {FIBRE_CHECK_POINTS} points per side)"
 
 
 def _fibre_grid_check(row: Row, result: StaticResult | None, scene, settings) -> None:
     """Rerun a fibre-law row (``result`` of ``scene`` under ``settings``) on a finer grid
     (``FIBRE_CHECK_POINTS`` per side) and record that lambda [-] and its relative change in
     ``row.extra``: the discretisation error of the grid the row used (no change where either
-    run does not collapse)."""
+    run does not collapse), also added to the row's error sources."""
     check = replace(settings, fibre_points=FIBRE_CHECK_POINTS)
     try:
         finer = solve_collapse(scene, check)
@@ -207,6 +209,10 @@ def _fibre_grid_check(row: Row, result: StaticResult | None, scene, settings) ->
     row.extra["lambda_fibre_check"] = lam
     base = result.lambda_max if result is not None and result.collapsed else None
     row.extra["fibre_grid_change"] = None if base is None or lam is None else lam / base - 1.0
+    if row.ours is not None and base is not None and lam is not None:
+        # the grid's share of the bar, measured: lambda scales with the row's unit
+        width = abs(lam - base) * abs(row.ours / base)
+        row.error_sources = {**row.error_sources, FIBRE_GRID_SOURCE: width}
 
 
 def _grid_note(rows: list[Row]) -> str:

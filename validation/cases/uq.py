@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.explicit import (
     ExplicitSettings,
     IndentationSettings,
@@ -57,6 +58,7 @@ from dem.units import GPA, MM
 from limit.errors import LimitAnalysisError
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
+from validation.cases.bars import exact, proportion
 from validation.cases.tis import CONVERGED, QUICK, THICKNESS_MM, mechanism
 from validation.report import Row, input_path, output_dir, results_dir
 from validation.sweep import latest_records, make_tasks, run_sweep
@@ -256,7 +258,7 @@ def run_friction_uq(quick: bool):
         rows.append(
             Row(
                 f"failure mode '{mode}': fraction [-]",
-                modes.count(mode) / max(1, len(ok)),
+                proportion(modes.count(mode), len(ok)) if ok else None,
                 None,
                 "",
                 None,
@@ -270,7 +272,7 @@ def run_friction_uq(quick: bool):
             rows.append(
                 Row(
                     f"running mean of P_max after {k} runs [N]",
-                    mean,
+                    Estimate(mean, {"sampling": half}, notes="Student t 95 % interval"),
                     None,
                     "",
                     None,
@@ -282,7 +284,7 @@ def run_friction_uq(quick: bool):
     rows.append(
         Row(
             "failed realisations [-]",
-            len(failed),
+            exact(len(failed)),
             0,
             "every run should finish",
             None,
@@ -560,7 +562,7 @@ def run_masonry_uq(quick: bool):
     rows.append(
         Row(
             "realisations that collapsed [-]",
-            len(collapsed),
+            exact(len(collapsed)),
             len(reals),
             "every realisation",
             None,
@@ -587,7 +589,7 @@ def run_masonry_uq(quick: bool):
         rows.append(
             Row(
                 "collapsed runs with DEM lambda <= own upper bound [-]",
-                float(np.mean(below)),
+                exact(float(np.mean(below)), "a count over these runs"),
                 1.0,
                 "limit analysis: associated bound >= non-associated collapse",
                 None,
