@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.explicit import (
     ExplicitSettings,
     IndentationResult,
@@ -41,7 +42,8 @@ from dem.tis_stiffness import (
     tis_panel_k_def,
 )
 from dem.units import GPA, MM
-from validation.report import RESULTS_DIR, Row
+from validation.cases.bars import two_levels
+from validation.report import Row, output_dir
 
 logger = logging.getLogger(__name__)
 
@@ -236,8 +238,7 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
             rows += _curve_rows(label, res, _disc_settings(disc, k_n), extra)
             _store_curves(store, f"{n}x{n}_{theta:g}_{model}", res, scene)
             if (n, theta, model) == (5, 2.5, "perfect"):
-                RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-                np.savez(RESULTS_DIR / "tis-peak-state.npz", **res.peak_state)
+                np.savez(output_dir() / "tis-peak-state.npz", **res.peak_state)
     # ratios the seed's Tables 1 and 2 imply, and the exact homogeneity prediction
     for (n, theta, model), res in results.items():
         if model != "calibrated":
@@ -286,8 +287,7 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
             {"increasing_with_theta": bool(np.all(np.diff(peaks) > 0))},
         ))  # fmt: skip
     rows += _stability_rows(quick, disc, store)
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-panels-curves.npz", **store)
+    np.savez(output_dir() / "tis-panels-curves.npz", **store)
     notes = (
         "Explicit LS-DEM-style runs (dem.explicit). k_def = (n+1) E / L with E = 18.75 GPa, "
         "implied by the seed's 2.25 GPa/mm for the 5x5 panel; k_imp by Eq. (4) with k_gaps = "
@@ -296,6 +296,8 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
         "travel. Discretisation: "
         + ", ".join(f"{k}={v}" for k, v in disc.items())
         + (" (quick: coarse, not converged)." if quick else " (converged per tis-convergence).")
+        + " The rows' error bars are not estimated (`± ?`): the explicit DEM gives none of its "
+        "own yet, and tis-convergence measures the budget of the 5x5, 2.5 deg panel only."
         + " P_calibrated/P_perfect: the quasi-static problem is homogeneous in k_n (rigid "
         "blocks, penalty contact, Coulomb friction with k_t proportional to k_n, weight "
         "negligible), so the ratio must equal k_imp/k_def; the seed's Tables 1 and 2 imply "
@@ -382,17 +384,21 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
         return cache[key]
 
     finest_spacing = None
+    base_bars: dict[str, float] = {}
     for param, values in sweeps.items():
         runs = [(v, *peak_run({**base, param: v})) for v in values]
         # the finest run: smallest spacing / speed / mass scaling / time step
         ref_res = runs[-1][1]
         if param == "node_spacing_mm":
             finest_spacing = ref_res
-        for value, res, wall in runs:
+        peaks = [res.peak_load for _, res, _ in runs]
+        base_bars.update(_base_bar(param, values, peaks, base[param]))
+        for i, (value, res, wall) in enumerate(runs):
             err = abs(res.peak_load - ref_res.peak_load) / ref_res.peak_load
             curve_err = _curve_difference(res, ref_res)
             rows.append(Row(
-                f"peak load, {param}={value:g} [N]", res.peak_load, ref_res.peak_load,
+                f"peak load, {param}={value:g} [N]", _sweep_estimate(param, values, peaks, i),
+                ref_res.peak_load,
                 f"finest run of this sweep ({param}={values[-1]:g})", wall,
                 {**base, param: value},
                 {"curve_rel_diff": curve_err, "n_nodes": res.info["n_nodes"],
@@ -409,8 +415,9 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
     full, scene = run_panel(n, theta, k_n, base)
     wall = time.perf_counter() - start
     info = full.info
+    converged = Estimate(full.peak_load, base_bars, notes="each sweep: base against the next finer")
     rows.append(Row(
-        "converged: 5x5 theta=2.5 full run, peak load [N]", full.peak_load,
+        "converged: 5x5 theta=2.5 full run, peak load [N]", converged,
         finest_spacing.peak_load,
         f"finest node spacing run ({sweeps['node_spacing_mm'][-1]:g} mm)", wall,
         {**base, "k_n_gpa_mm": k_n / (GPA / MM)},
@@ -422,19 +429,37 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
     ))  # fmt: skip
     store["converged/delta"] = full.delta
     store["converged/load"] = full.load
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-convergence-curves.npz", **store)
+    np.savez(output_dir() / "tis-convergence-curves.npz", **store)
     notes = (
         "5x5 panel, theta = 2.5 deg, k_n = 2.25 GPa/mm. Each sweep varies one parameter around "
         f"the base {base} and runs until the load has dropped to 85 % of the peak; its error is "
         "against the finest run of the same sweep. curve_rel_diff: largest |P - P_finest| over "
-        "the common deflection range before the peak, relative to the finest peak. Mass scaling "
+        "the common deflection range before the peak, relative to the finest peak. Each peak's "
+        "error bar is its difference to the next finer run of its sweep; the converged row's bar "
+        "adds, per sweep, the difference between the base run and the next finer one. Mass scaling "
         "s and speed v enter the dynamics through v sqrt(s) only (time scaling), so the two "
         "sweeps test the same inertia effect. The converged row is the full run at the base "
         "discretisation (relaxation + indentation until the central block is out)."
         + (" Quick mode: coarse, the base is not converged." if quick else "")
     )
     return rows, notes
+
+
+def _sweep_estimate(param: str, values: list, peaks: list, i: int):
+    """Peak ``i`` of a sweep (coarse to fine) with the difference to the next finer run as its
+    bar (the finest: to the next coarser)."""
+    j = i + 1 if i + 1 < len(peaks) else i - 1
+    return two_levels(peaks[i], peaks[j], param, f"{param} {values[i]:g} against {values[j]:g}")
+
+
+def _base_bar(param: str, values: list, peaks: list, base_value: float) -> dict[str, float]:
+    """The error source of the base discretisation in one sweep: the difference between the
+    base run and the next finer one; none where the base is the finest (the unscaled mass is
+    the model itself, not an approximation of it)."""
+    i = values.index(base_value)
+    if i + 1 == len(values):
+        return {}
+    return {f"{param} ({values[i]:g} vs {values[i + 1]:g})": abs(peaks[i] - peaks[i + 1])}
 
 
 def _curve_difference(res: IndentationResult, ref: IndentationResult) -> float:
@@ -491,8 +516,7 @@ def run_friction(quick: bool) -> tuple[list[Row], str]:
         {"std_over_mean": float(np.std(peaks) / np.mean(peaks)),
          "mean_energy_ratio": float(np.mean(energies)) / det[0.23].loading_energy},
     ))  # fmt: skip
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-friction-curves.npz", **store)
+    np.savez(output_dir() / "tis-friction-curves.npz", **store)
     notes = (
         "Panel of seed 000 Fig. 9 taken as the 5x5, theta = 5 deg calibration panel with "
         "k_imp (k_gaps = 0.65 GPa/mm); per-block mu drawn with numpy default_rng(seed) from "
@@ -500,6 +524,8 @@ def run_friction(quick: bool) -> tuple[list[Row], str]:
         "blocks' values (ExplicitSettings.mu_rule). Discretisation: "
         + ", ".join(f"{k}={v}" for k, v in disc.items())
         + (" (quick: coarse, not converged)." if quick else ".")
+        + " The rows' error bars are not estimated (`± ?`): the explicit DEM gives none of its "
+        "own yet."
     )
     return rows, notes
 

@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.explicit import (
     ExplicitSettings,
     IndentationSettings,
@@ -57,14 +58,16 @@ from dem.units import GPA, MM
 from limit.errors import LimitAnalysisError
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
+from validation.cases.bars import exact, proportion
 from validation.cases.tis import CONVERGED, QUICK, THICKNESS_MM, mechanism
-from validation.report import RESULTS_DIR, Row, output_dir
+from validation.report import Row, input_path, output_dir, results_dir
 from validation.sweep import latest_records, make_tasks, run_sweep
-from validation.sweep.stats import mean_ci
+from validation.sweep.stats import mean_ci, sample_statistics
 
 logger = logging.getLogger(__name__)
 
-SWEEPS_DIR = RESULTS_DIR / ".sweeps"
+SWEEPS = ".sweeps"
+"""The working stores' folder inside the results folder of the run (git-ignored)."""
 ROOT = Path(__file__).resolve().parents[2]
 CURVE_POINTS = 150
 TIS_N, TIS_THETA = 5, 2.5
@@ -83,7 +86,8 @@ def code_fingerprint() -> str:
 
 
 def store_dir(case: str, quick: bool) -> Path:
-    return SWEEPS_DIR / (f"{case}-quick" if quick else case)
+    """The working store of a study, in the sweeps folder of the full or quick results."""
+    return results_dir(quick) / SWEEPS / (f"{case}-quick" if quick else case)
 
 
 def _sweep(case: str, fn, params: list[dict], root_seed: int, quick: bool, prefix: str):
@@ -101,10 +105,13 @@ def _sweep(case: str, fn, params: list[dict], root_seed: int, quick: bool, prefi
 
 
 def _stats_rows(label: str, values, unit: str, settings: dict, reference=None, source="") -> list:
-    """Mean (with its 95 % CI), std and the 5/50/95 % quantiles of a sample."""
+    """Mean (with its 95 % t and bootstrap intervals), std and the 5/50/95 % quantiles of a
+    sample, each statistic with its seeded bootstrap interval (``extra["bootstrap"]``); the
+    row's ``ours`` is the mean with its bootstrap bar (source ``"sampling"``)."""
     v = np.asarray(values, dtype=float)
     mean, half = mean_ci(v) if v.size >= 2 else (float(v.mean()), math.nan)
     q05, q50, q95 = np.quantile(v, [0.05, 0.5, 0.95])
+    boot = sample_statistics(v) if v.size >= 2 else {}
     extra = {
         "n": int(v.size),
         "ci95_half_width": half,
@@ -115,8 +122,10 @@ def _stats_rows(label: str, values, unit: str, settings: dict, reference=None, s
         "q95": q95,
         "min": float(v.min()),
         "max": float(v.max()),
+        "bootstrap": {name: ci.to_dict() for name, ci in boot.items()},
     }
-    return [Row(f"{label}: mean [{unit}]", mean, reference, source, None, settings, extra)]
+    ours = boot["mean"].estimate if boot else mean
+    return [Row(f"{label}: mean [{unit}]", ours, reference, source, None, settings, extra)]
 
 
 def _curve(delta: np.ndarray, load: np.ndarray) -> dict:
@@ -180,7 +189,7 @@ def _tis_params(quick: bool, k_n: float) -> dict:
 
 def _seed_spread() -> tuple[np.ndarray, str]:
     """P_max / P_max(mu = 0.23) of the realisations in tis-friction's results, if present."""
-    path = RESULTS_DIR / "tis-friction.json"
+    path = input_path("tis-friction.json")
     if not path.exists():
         return np.array([]), "tis-friction not run"
     data = json.loads(path.read_text())
@@ -249,7 +258,7 @@ def run_friction_uq(quick: bool):
         rows.append(
             Row(
                 f"failure mode '{mode}': fraction [-]",
-                modes.count(mode) / max(1, len(ok)),
+                proportion(modes.count(mode), len(ok)) if ok else None,
                 None,
                 "",
                 None,
@@ -263,7 +272,7 @@ def run_friction_uq(quick: bool):
             rows.append(
                 Row(
                     f"running mean of P_max after {k} runs [N]",
-                    mean,
+                    Estimate(mean, {"sampling": half}, notes="Student t 95 % interval"),
                     None,
                     "",
                     None,
@@ -275,7 +284,7 @@ def run_friction_uq(quick: bool):
     rows.append(
         Row(
             "failed realisations [-]",
-            len(failed),
+            exact(len(failed)),
             0,
             "every run should finish",
             None,
@@ -553,7 +562,7 @@ def run_masonry_uq(quick: bool):
     rows.append(
         Row(
             "realisations that collapsed [-]",
-            len(collapsed),
+            exact(len(collapsed)),
             len(reals),
             "every realisation",
             None,
@@ -580,7 +589,7 @@ def run_masonry_uq(quick: bool):
         rows.append(
             Row(
                 "collapsed runs with DEM lambda <= own upper bound [-]",
-                float(np.mean(below)),
+                exact(float(np.mean(below)), "a count over these runs"),
                 1.0,
                 "limit analysis: associated bound >= non-associated collapse",
                 None,
