@@ -11,59 +11,12 @@ a face interface there, so that a report can name them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from dem.explicit.model import ExplicitModel
-from dem.explicit.results import interface_resultants
+from dem.explicit.results import PairForces, interface_resultants
 from dem.geometry.polyhedron import penetration_depth
-
-
-@dataclass(frozen=True)
-class PairForces:
-    """Resultant contact force of each pair of blocks in contact at one state.
-
-    Attributes
-    ----------
-    pairs : (p, 2) int64
-        ``(i, j)`` with ``i < j``.
-    force : (p, 3) float
-        Resultant force on block ``i`` from block ``j`` [N].
-    point : (p, 3) float
-        Force-weighted mean of the nodal points [m].
-    gap : (p,) float
-        Separation of the two blocks in the reference configuration along their face
-        normals [m] (0 when they touch).
-    interface : (p,) bool
-        The two blocks share a face interface in the reference configuration (what the
-        static DEM and the limit analysis model).
-    """
-
-    pairs: np.ndarray
-    force: np.ndarray
-    point: np.ndarray
-    gap: np.ndarray
-    interface: np.ndarray
-
-    def ranked(self) -> np.ndarray:
-        """Indices of the pairs: those without a face interface first, then by force."""
-        magnitude = np.linalg.norm(self.force, axis=1)
-        return np.lexsort((-magnitude, self.interface))
-
-    def describe(self, limit: int = 5) -> str:
-        """The first ``limit`` pairs of :meth:`ranked` in words, e.g. ``blocks 2-4 (no face
-        interface, gap 0 mm, 141 N)``."""
-        parts = []
-        for k in self.ranked()[:limit]:
-            i, j = self.pairs[k]
-            kind = "face interface" if self.interface[k] else "no face interface"
-            parts.append(
-                f"blocks {i}-{j} ({kind}, gap {self.gap[k] * 1e3:.3g} mm, "
-                f"{np.linalg.norm(self.force[k]):.3g} N)"
-            )
-        more = len(self.pairs) - limit
-        return "; ".join(parts) + (f"; and {more} more" if more > 0 else "")
 
 
 def pair_forces(model: ExplicitModel) -> PairForces:

@@ -125,5 +125,25 @@ class ExplicitLateral:
                 "bracket is its onset, the collapse of the rigid-block methods in small "
                 "displacements"
             )
+        resisting = _resisting(res, lim)
+        if resisting:
+            values["resisting"] = resisting
+            reason = f"{reason}; {resisting}" if reason else resisting
         settings = {"driver": res.driver, "solver": res.settings}
         return StepResult(self.name, self.method, "ok", reason, res.wall_s, settings, values, res)
+
+
+def _resisting(res, lim: StepResult | None) -> str:
+    """Which contacts resisted when the explicit run was at rest above the upper bound of the
+    vertex model (a load no rigid-block structure with these interfaces carries): the block
+    pairs in contact then, those without a face interface first, with their gaps and forces
+    (:func:`dem.explicit.diagnosis.pair_forces`); empty otherwise."""
+    upper = None if lim is None else lim.values.get("upper")
+    contacts = res.contacts_at_rest
+    if upper is None or contacts is None or not res.lambda_stable > upper:
+        return ""
+    return (
+        f"at rest at lambda = {res.lambda_stable:.4g}, above the upper bound {upper:.4g}: the "
+        f"contacts that resisted (pairs without a face interface, which the limit analysis "
+        f"does not have, first): {contacts.describe()}"
+    )
