@@ -32,6 +32,7 @@ stress, which the paper shows is admissible but which its solver did not find.
 from __future__ import annotations
 
 import logging
+import math
 import time
 import warnings
 from dataclasses import dataclass
@@ -40,6 +41,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
+from dem.estimate import Estimate
 from limit.errors import (
     DeadLoadInfeasibleError,
     LimitAnalysisError,
@@ -574,6 +576,10 @@ class TrescaMultiplierResult:
         ``(attempt, status)`` of every solve, in order.
     wall_s : float
         [s].
+    feasibility_shift : float
+        How far the optimum may lie from ``load_multiplier`` because the returned forces
+        violate their rows (balance, compression, Tresca) [-]: each violation times its dual,
+        the first-order sensitivity of the optimum (as in :mod:`limit.certificates`).
     """
 
     load_multiplier: float
@@ -588,6 +594,23 @@ class TrescaMultiplierResult:
     dual_residual: float
     attempts: tuple
     wall_s: float
+    feasibility_shift: float = float("nan")
+
+    @property
+    def load_multiplier_estimate(self) -> Estimate:
+        """``load_multiplier`` with its error bar (the half-width of an interval that holds
+        the programme's optimum): source ``"duality gap"``, the distance to the kinematic
+        multiplier of the duals' mechanism, an upper bound of the optimum;
+        ``"feasibility"``, :attr:`feasibility_shift`; ``"round-off"``, 16 ulps of the
+        multiplier (a simplex vertex is exact up to the rounding of its scaling)."""
+        gap = abs(self.upper_bound - self.load_multiplier)
+        shift = self.feasibility_shift if math.isfinite(self.feasibility_shift) else math.inf
+        ulps = 16 * float(np.spacing(max(abs(self.load_multiplier), abs(self.upper_bound))))
+        return Estimate(
+            self.load_multiplier,
+            {"duality gap": gap, "feasibility": shift, "round-off": ulps},
+            notes="solver error of the programme's optimum (duality gap, primal violations)",
+        )
 
 
 def max_load_multiplier(
@@ -775,6 +798,7 @@ def _multiplier_point(prog, packing, dead_traction, live_traction, s_e, tol: flo
     upper *= prog.alpha_unit
     gap = abs(upper - a_star) / max(abs(a_star), abs(upper), tol * prog.alpha_unit)
     return {
+        "feasibility_shift": _feasibility_shift(prog) * prog.alpha_unit,
         "load_multiplier": a_star,
         "upper_bound": upper,
         "normal_force": lam_si,
@@ -784,6 +808,20 @@ def _multiplier_point(prog, packing, dead_traction, live_traction, s_e, tol: flo
         "duality_gap": gap,
         "dual_residual": dual_res,
     }
+
+
+def _feasibility_shift(prog) -> float:
+    """``sum |dual| x violation`` over the rows of the solved (scaled) programme: the
+    first-order move of its optimum [scaled alpha] that the returned point's violations can
+    hide."""
+    z = np.concatenate([np.ravel(prog.lam.value), np.ravel(prog.f_t.value)])
+    balance = prog.A @ z + prog.d_hat + float(prog.alpha.value) * prog.l_hat
+    rows = (
+        (prog.constraints[0], np.abs(balance)),
+        (prog.constraints[1], np.maximum(-np.ravel(prog.lam.value), 0.0)),
+        (prog.constraints[2], np.maximum(np.abs(np.ravel(prog.f_t.value)) - prog.cap_hat, 0.0)),
+    )
+    return float(sum(np.abs(np.ravel(c.dual_value)) @ viol for c, viol in rows))
 
 
 def _mechanism_bound(y, A, d_hat, l_hat, cap_hat) -> tuple[float, float]:

@@ -18,6 +18,9 @@ Catalogue (limit analysis, :mod:`limit.lambda_error`):
 - joints with tensile strength: mu (W + sigma_t A) / W, and a hanging block's pull-out;
 - a flat block sliding under a load at theta with an inscribed friction polygon of k sides
   (``error="full"``: the polygon's error measured against the exact cones), exact mu;
+- the Tresca load multiplier (seed 003, :attr:`limit.tresca.TrescaMultiplierResult.
+  load_multiplier_estimate`): 2 x 2 unit cells under pure shear, s / tau, and a brick wall's
+  bed joints, s, with Clarabel and HiGHS;
 - the least thickness of a semicircular arch (Milankovitch 1907, t/r = 0.1075 given to four
   digits): the certified bisection of 20 and 40 voussoirs, extrapolated in the voussoir
   count (order 2, :func:`dem.estimate.richardson`), with the two bisection brackets.
@@ -31,6 +34,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
 import pytest
 
 from dem.estimate import Estimate, richardson
@@ -166,6 +170,46 @@ def limit_cases() -> list[Case]:
     return cases
 
 
+def _tresca(packing, dead_sigma, live_sigma, s, solver) -> Estimate:
+    from limit.tresca import TrescaSettings, max_load_multiplier
+    from limit.voronoi_packing import uniform_stress_traction
+
+    res = max_load_multiplier(
+        packing,
+        uniform_stress_traction(packing, dead_sigma),
+        uniform_stress_traction(packing, live_sigma),
+        s,
+        TrescaSettings(solver=solver),
+    )
+    return res.load_multiplier_estimate
+
+
+def tresca_cases() -> list[Case]:
+    from limit.voronoi_packing import brick_wall_packing, voronoi_packing_from_seeds
+
+    squares = voronoi_packing_from_seeds(
+        np.array([[0.5, 0.5], [1.5, 0.5], [0.5, 1.5], [1.5, 1.5]]), 2.0, 2.0
+    )
+    wall = brick_wall_packing(n_courses=5, bricks_per_course=3, brick_length=0.2, brick_height=0.1)
+    shear = np.array([[0.0, 1.0], [1.0, 0.0]])
+    cases = []
+    for solver in ("CLARABEL", "HIGHS"):
+        for p, s, tau in [(1e5, 3e3, 1e4), (1.0, 0.03, 0.1), (2e4, 5e2, 3e3)]:
+            cases.append(Case(
+                f"Tresca 2x2 shear p {p:g} s {s:g} tau {tau:g} [{solver}]",
+                lambda p=p, s=s, tau=tau, so=solver: _tresca(
+                    squares, -p * np.eye(2), tau * shear, s, so
+                ),
+                s / tau, 0.0, LA_RESOLUTION * max(1.0, s / tau),
+            ))  # fmt: skip
+        cases.append(Case(
+            f"Tresca brick wall bed joints [{solver}]",
+            lambda so=solver: _tresca(wall, -np.eye(2), shear, 0.7, so),
+            0.7, 0.0, LA_RESOLUTION,
+        ))  # fmt: skip
+    return cases
+
+
 def _least_thickness(n: int) -> Estimate:
     """Certified bisection of the least t/r of an n-voussoir semicircular arch (r = 1 m)."""
 
@@ -218,6 +262,10 @@ def test_limit_analysis_bars_are_calibrated():
     check(run_catalogue(limit_cases()))
 
 
+def test_tresca_multiplier_bars_are_calibrated():
+    check(run_catalogue(tresca_cases()))
+
+
 def test_arch_least_thickness_bar_is_calibrated():
     check(run_catalogue(arch_cases()))
 
@@ -235,7 +283,8 @@ def test_the_calibration_can_fail():
 
 
 if __name__ == "__main__":  # the counts for a report: python -m tests.test_error_calibration
-    for name, cases in (("limit", limit_cases()), ("arch", arch_cases())):
+    catalogue = (("limit", limit_cases()), ("tresca", tresca_cases()), ("arch", arch_cases()))
+    for name, cases in catalogue:
         outcomes = run_catalogue(cases)
         print(name, summary(outcomes))
         for o in outcomes:

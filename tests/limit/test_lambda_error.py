@@ -96,3 +96,48 @@ def test_bounds_carry_their_estimates():
     assert math.isfinite(b.iterative.estimate.error)
     data = b.to_dict()
     assert data["upper_estimate"]["value"] == b.upper
+
+
+@pytest.mark.parametrize("solver", ["HIGHS", "CLARABEL"])
+@pytest.mark.parametrize(("p", "s", "tau"), [(1e5, 3e3, 1e4), (1.0, 0.03, 0.1)])
+def test_tresca_multiplier_bar_holds_the_closed_form(solver, p, s, tau):
+    """2 x 2 unit cells under -p I + alpha tau (e1 e2 + e2 e1): alpha* = s / tau exactly
+    (seed 003; the top row slides on the bottom one). The bar holds it and is the solver's
+    size (a simplex vertex of HiGHS is exact to round-off)."""
+    from limit.tresca import TrescaSettings, max_load_multiplier
+    from limit.voronoi_packing import uniform_stress_traction, voronoi_packing_from_seeds
+
+    packing = voronoi_packing_from_seeds(
+        np.array([[0.5, 0.5], [1.5, 0.5], [0.5, 1.5], [1.5, 1.5]]), 2.0, 2.0
+    )
+    res = max_load_multiplier(
+        packing,
+        uniform_stress_traction(packing, -p * np.eye(2)),
+        uniform_stress_traction(packing, [[0.0, tau], [tau, 0.0]]),
+        s,
+        TrescaSettings(solver=solver),
+    )
+    est = res.load_multiplier_estimate
+    assert est.contains(s / tau)
+    assert est.error < 1e-6 * (s / tau)
+    assert set(est.sources) == {"duality gap", "feasibility", "round-off"}
+
+
+def test_tresca_bar_widens_for_forces_that_violate_their_rows():
+    """An estimate from a result whose forces violate their rows carries that as its
+    feasibility source; a result without the shift computed has an unknown error."""
+    from dataclasses import replace
+
+    from limit.tresca import TrescaSettings, max_load_multiplier
+    from limit.voronoi_packing import brick_wall_packing, uniform_stress_traction
+
+    wall = brick_wall_packing(n_courses=5, bricks_per_course=3, brick_length=0.2, brick_height=0.1)
+    res = max_load_multiplier(
+        wall,
+        uniform_stress_traction(wall, -np.eye(2)),
+        uniform_stress_traction(wall, [[0.0, 1.0], [1.0, 0.0]]),
+        0.7,
+        TrescaSettings(),
+    )
+    assert res.load_multiplier_estimate.contains(0.7)  # closed form s / 1 Pa
+    assert math.isinf(replace(res, feasibility_shift=math.nan).load_multiplier_estimate.error)
