@@ -10,8 +10,14 @@ from pathlib import Path
 from dem.estimate import Estimate, format_estimate
 from dem.geometry.interfaces import pair_list
 from dem.scene import Scene
+from validation.crosscheck.html_report import write_html_report
 from validation.crosscheck.limit_steps import WHY_NONE
-from validation.crosscheck.pictures import PictureOptions, draw_pictures, write_vtus
+from validation.crosscheck.pictures import (
+    PictureOptions,
+    draw_pictures,
+    write_mechanism_view,
+    write_vtus,
+)
 from validation.crosscheck.pushover import zero_lower_note
 from validation.crosscheck.steps import Context
 from validation.report import _fmt, _git_commit, _jsonable, _versions
@@ -42,12 +48,17 @@ def write_report(
     (``pictures``: False for none, True or a :class:`PictureOptions` to draw them)."""
     out.mkdir(parents=True, exist_ok=True)
     files = write_vtus(scene, ctx, out)
+    view, why_not = None, "no pictures were asked for (--no-pictures)"
     if pictures:
         options = pictures if isinstance(pictures, PictureOptions) else PictureOptions()
         drawn = draw_pictures(scene, ctx, out, files, options)
         files.update({f"{k}_png": v for k, v in drawn.items()})
+        view, why_not = write_mechanism_view(scene, ctx, out / "mechanism_3d.html", options)
+        if view is not None:
+            files["mechanism_3d"] = str(view)
     files["report_json"] = str(out / "report.json")
     files["report_md"] = str(out / "report.md")
+    files["report_html"] = str(out / "report.html")
     payload = {
         "scene": result.scene,
         "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
@@ -59,7 +70,9 @@ def write_report(
         "files": {k: Path(v).name for k, v in files.items()},
     }
     Path(files["report_json"]).write_text(json.dumps(_jsonable(payload), indent=1) + "\n")
-    Path(files["report_md"]).write_text(markdown(result, files, payload) + "\n")
+    text = markdown(result, files, payload) + "\n"
+    Path(files["report_md"]).write_text(text)
+    write_html_report(text, Path(files["report_html"]), view, why_not)
     return files
 
 

@@ -97,10 +97,10 @@ def _labels(scene: Scene, options: PictureOptions, points: np.ndarray | None = N
     return scene.assembly.centroid if points is None else points
 
 
-def render_mechanism(scene: Scene, lim: StepResult, png: Path, options: PictureOptions) -> Path:
-    """The collapse mechanism of the limit analysis: blocks moved by it (exaggerated) over
-    the structure at rest, coloured by their speed relative to the fastest block; fixed
-    blocks grey."""
+def mechanism_plotter(scene: Scene, lim: StepResult, options: PictureOptions):
+    """A plotter of the collapse mechanism of the limit analysis, its title and the block
+    numbers' points: blocks moved by it (exaggerated) over the structure at rest (grey wire),
+    coloured by their speed relative to the fastest block; fixed blocks grey."""
     result = lim.payload.associated
     arrays = mechanism_arrays(scene, result, MECHANISM_FRACTION)
     moved = mechanism_grid(scene, result, MECHANISM_FRACTION)
@@ -132,7 +132,31 @@ def render_mechanism(scene: Scene, lim: StepResult, png: Path, options: PictureO
         f"{lim.values['upper']:.4g}\nblock motion exaggerated (largest = "
         f"{MECHANISM_FRACTION:.0%} of the structure's size); grey wire: at rest"
     )
-    return finish_picture(plotter, png, title, _labels(scene, options, centres))
+    return plotter, title, _labels(scene, options, centres)
+
+
+def render_mechanism(scene: Scene, lim: StepResult, png: Path, options: PictureOptions) -> Path:
+    """mechanism.png (see :func:`mechanism_plotter`)."""
+    plotter, title, labels = mechanism_plotter(scene, lim, options)
+    return finish_picture(plotter, png, title, labels)
+
+
+def write_mechanism_view(
+    scene: Scene, ctx: Context, path: Path, options: PictureOptions
+) -> tuple[Path | None, str]:
+    """``mechanism_3d.html``, the mechanism as an interactive vtk.js page, or (None, why not)."""
+    from validation.crosscheck.html_report import write_mechanism_html
+
+    lim = ctx.ok("limit-vertex") or ctx.ok("limit-resultant")
+    if lim is None or lim.payload is None:
+        return None, "the limit analysis found no collapse mechanism or did not run"
+    try:
+        plotter, _, _ = mechanism_plotter(scene, lim, options)
+        plotter.add_axes(color="black")
+        return write_mechanism_html(plotter, path), ""
+    except Exception as exc:  # a view must never take the report down
+        logger.warning("the interactive 3D view could not be written", exc_info=True)
+        return None, f"its export failed ({type(exc).__name__}: {exc})"
 
 
 def state_categories(state: np.ndarray) -> np.ndarray:
