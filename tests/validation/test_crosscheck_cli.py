@@ -101,6 +101,7 @@ def test_validation_all_is_quiet_end_to_end(tmp_path):
 import os, sys, warnings
 from pathlib import Path
 import validation.__main__ as m
+import validation.catalogue as c
 from dem.scenes import stack
 from limit import limit_analysis
 from validation.report import Row
@@ -111,9 +112,10 @@ def case(quick):
     lam = limit_analysis(stack(2, 0.4, 0.3, 0.5)).lam
     return [Row("overturning of a stack", lam, 0.4, "closed form b / (n h)")]
 
-m.CASES = {{"stack": case}}
-m.RESULTS_DIR = Path({str(tmp_path)!r})
-m.write_results = lambda *a, **k: (Path("x.json"), Path("x.md"))
+c.CASES.clear()
+c.CASES["stack"] = case
+m.results_dir = c.results_dir = lambda quick: Path({str(tmp_path)!r})
+c.write_results = lambda *a, **k: (Path("x.json"), Path("x.md"))
 sys.exit(m.main(["all", "--quick"]))
 """
     env = {**os.environ, "MPLBACKEND": "Agg"}
