@@ -49,12 +49,6 @@ _WAITING = {
     "files of the files helper this session (issue 29)": (
         "validation/crosscheck/files.py::markdown",
     ),
-    "files the errors-plumbing helper edits this session (issue 28)": (
-        "validation/cases/tis.py::run_panels",
-        "validation/cases/tis.py::run_convergence",
-        "validation/cases/uq.py::run_friction_uq",
-        "validation/cases/uq.py::run_masonry_uq",
-    ),
 }
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
 """(path, function) longer than ``SOFT_LIMIT`` that wait for their split, with the reason."""
