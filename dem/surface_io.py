@@ -257,5 +257,6 @@ def _refuse_open(body: SurfaceBody, index: int, path: Path) -> None:
     named = f" (object {body.name!r})" if body.name else ""
     raise ValueError(
         f"body {index} of {path.name}{named} is open: {len(edges)} edges belong to one face "
-        f"only ({shown}{more}); a face is missing or its corners do not meet"
+        f"only ({shown}{more}); a face is missing, its corners do not meet, or the block's faces "
+        "are spread over several objects (o/g, solid)"
     )

@@ -14,15 +14,16 @@ meshes (mesh size times :data:`MESH_RATIO` per level):
     It does not see a value that diverges (a stress peak under a point force).
 ``"full"``
     Two coarser levels. The observed order :math:`p = \log_2(|s_{4h} - s_{2h}| /
-    |s_{2h} - s_h|)`; inside :data:`ORDER_RANGE` the bar is Roache's grid convergence index
-    with the three-grid safety factor 1.25, :math:`1.25\,|s_h - s_{2h}| / (2^p - 1)`. Steps
-    that grow (:math:`p` below the range: the value runs away under refinement, as a peak at
-    a singular point does) give an infinite bar, named ``"mesh (diverging)"``; steps that shrink
-    faster than the range allows keep the cheap bar. Steps of opposite signs (oscillating
-    convergence, where no order can be read) give the larger step (Celik et al. 2008). Steps
-    within :data:`ROUND_OFF` of the value are round-off (an exact value, such as a linear
-    stress field with P2). Every bar adds that fraction of the value, the resolution of the
-    solves.
+    |s_{2h} - s_h|)`, capped at the formal order (the displacement degree: a stress converges
+    no faster where the field is smooth); from :data:`MIN_ORDER` up, the bar is Roache's grid
+    convergence index with the three-grid safety factor 1.25,
+    :math:`1.25\,|s_h - s_{2h}| / (2^p - 1)`. Steps that grow or barely shrink (:math:`p`
+    below :data:`MIN_ORDER`: the value runs away under refinement, as a peak at a singular
+    point does) give an infinite bar, named ``"mesh (diverging)"``. Steps of opposite signs
+    (oscillating convergence, where no order can be read) give the larger step (Celik et al.
+    2008). Steps within :data:`ROUND_OFF` of the value are round-off (an exact value, such as
+    a linear stress field with P2). Every bar adds that fraction of the value, the resolution
+    of the solves.
 
 With P1 displacements (``"cheap"`` or ``"full"``) the reference is the P2 solution on the same
 mesh, source ``"P1/P2"`` = :math:`|s_{P1} - s_{P2}|`. The extremes of P1 stresses (constant per
@@ -52,7 +53,7 @@ from fem_check.recovery import StressSummary, cut_resultant, summarise
 
 __all__ = [
     "MESH_RATIO",
-    "ORDER_RANGE",
+    "MIN_ORDER",
     "CutCheck",
     "StressEstimates",
     "degree_estimate",
@@ -64,9 +65,9 @@ __all__ = [
 
 MESH_RATIO = 2.0
 """Ratio of mesh sizes between two levels."""
-ORDER_RANGE = (0.5, 4.0)
-"""Observed orders accepted for the grid convergence index: P1/P2 stresses converge with
-order 1-2 where smooth, about 0.5 near re-entrant edges; beyond 4 the steps are round-off."""
+MIN_ORDER = 0.5
+"""Smallest observed order read as convergence: stresses near re-entrant edges converge with
+order about 0.5; below it the steps do not shrink enough to bound what is left."""
 ROUND_OFF = 1e-9
 """Steps below this fraction of the value are round-off of the sparse solves [-]."""
 SAFETY_FULL = 1.25
@@ -74,9 +75,11 @@ SAFETY_FULL = 1.25
 QUANTITIES = ("max_principal", "max_von_mises", "min_principal")
 
 
-def level_estimate(values: list[float], budget: ErrorBudget, cost_s: float = 0.0) -> Estimate:
+def level_estimate(
+    values: list[float], budget: ErrorBudget, cost_s: float = 0.0, formal_order: float = 2.0
+) -> Estimate:
     """The finest of ``values`` (finest first, each level ``MESH_RATIO`` coarser) with the
-    bar of ``budget`` (module notes)."""
+    bar of ``budget``; ``formal_order`` caps the observed order (module notes)."""
     check_error_budget(budget)
     fine = float(values[0])
     if budget == "none":
@@ -94,19 +97,20 @@ def level_estimate(values: list[float], budget: ErrorBudget, cost_s: float = 0.0
     if (values[0] - values[1]) * (values[1] - values[2]) < 0 and step > floor:
         note = "oscillating levels: the larger of the two steps"
         return Estimate(fine, {"mesh": max(step, before) + floor}, cost_s, note)
-    if step <= floor or before / step > MESH_RATIO ** ORDER_RANGE[1]:
-        note = "steps shrink faster than order 4: |s_h - s_2h|"
-        return Estimate(fine, {"mesh": step + floor}, cost_s, note)
+    if step <= floor:
+        return Estimate(fine, {"mesh": step + floor}, cost_s, "last step at round-off")
     order = math.log(before / step) / math.log(MESH_RATIO)
-    if order < ORDER_RANGE[0]:
+    if order < MIN_ORDER:
         return Estimate(
             fine,
             {"mesh (diverging)": math.inf},
             cost_s,
             f"observed order {order:.2f}: the value does not converge under refinement",
         )
-    gci = SAFETY_FULL * step / (MESH_RATIO**order - 1.0) + floor
-    return Estimate(fine, {"mesh": gci}, cost_s, f"GCI, observed order {order:.2f}")
+    used = min(order, formal_order)
+    gci = SAFETY_FULL * step / (MESH_RATIO**used - 1.0) + floor
+    note = f"GCI, observed order {order:.2f}, used {used:.2f}"
+    return Estimate(fine, {"mesh": gci}, cost_s, note)
 
 
 def degree_estimate(p1: float, p2: float, cost_s: float = 0.0) -> Estimate:
@@ -183,7 +187,11 @@ def solve_with_error(
     for q in QUANTITIES:
         values = [getattr(s, q) for s in summaries]
         p1 = solver.degree == 1 and budget != "none"
-        ests[q] = degree_estimate(*values[:2], cost) if p1 else level_estimate(values, budget, cost)
+        ests[q] = (
+            degree_estimate(*values[:2], cost)
+            if p1
+            else level_estimate(values, budget, cost, formal_order=solver.degree)
+        )
     used = [solver, *references][: len(summaries)]
     sizes = tuple(r.mesh_settings.size for r in used)
     return sol, StressEstimates(**ests, summary=summaries[0], mesh_sizes=sizes)

@@ -18,7 +18,6 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
-import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
@@ -49,21 +48,11 @@ _WAITING = {
     "files of the files helper this session (issue 29)": (
         "validation/crosscheck/files.py::markdown",
     ),
-    "files the errors-plumbing helper edits this session (issue 28)": (
-        "validation/cases/tis.py::run_panels",
-        "validation/cases/tis.py::run_convergence",
-        "validation/cases/uq.py::run_friction_uq",
-        "validation/cases/uq.py::run_masonry_uq",
-    ),
 }
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
 """(path, function) longer than ``SOFT_LIMIT`` that wait for their split, with the reason."""
 
-KNOWN_CYCLES = {
-    frozenset({"dem.static.laws", "dem.static.settings"}): (
-        "the settings import the laws they configure (issue 30, part 3: static-scale)"
-    ),
-}
+KNOWN_CYCLES: dict[frozenset, str] = {}
 """Import cycles that are being removed; any other cycle fails ``test_no_import_cycles``."""
 
 
@@ -224,7 +213,6 @@ def test_no_import_cycles():
     assert not new, f"import cycles: {new}"
 
 
-@pytest.mark.xfail(strict=False, reason="; ".join(KNOWN_CYCLES.values()))
 def test_the_known_import_cycles_are_gone():
     cycles = import_cycles(import_graph(REPO, PACKAGES))
     assert not [sorted(c) for c in cycles if frozenset(c) in KNOWN_CYCLES]

@@ -86,9 +86,9 @@ def main(argv: list[str] | None = None) -> int:
             return 2
     commit = git_commit()
     status = _run_cases(args)
-    if args.command == "all" and not args.quick:
-        write_manifest(results_dir(False), commit)
-        _manifest(False, write=False)
+    if args.command == "all":  # the folder's manifest names the commit of this run
+        write_manifest(results_dir(args.quick), commit)
+        _manifest(args.quick, write=False)
     return status
 
 

@@ -37,7 +37,7 @@ def test_html_has_the_reports_text_tables_pictures_and_view(report):
         assert f'src="{name}"' in page and (report / name).exists()
     assert '<iframe src="mechanism_3d.html"' in page
     for text in (page, (report / "mechanism_3d.html").read_text()):
-        assert "<script src=\"http" not in text and "<link href=\"http" not in text
+        assert '<script src="http' not in text and '<link href="http' not in text
 
 
 def _browser() -> str:

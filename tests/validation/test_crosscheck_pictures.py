@@ -60,7 +60,7 @@ def test_report_rounds_and_says_why_the_lower_bound_is_zero(tmp_path):
     path = tmp_path / "wall.json"
     running_bond_wall(3, 2, 100.0, 300.0, 120.0, 18.0, mu=0.6).to_json(path)
     out = tmp_path / "out"
-    args = ["--live", "x", "--methods", "limit", "--no-pictures", "--out", str(out)]
+    args = ["--live", "x", "--methods", "limit,dem,fem", "--no-pictures", "--out", str(out)]
     assert crosscheck_main([str(path), *args]) == 0
     report = (out / "report.md").read_text()
     table = report.split("## Load multipliers")[1].split("\n## ")[0]
@@ -71,3 +71,7 @@ def test_report_rounds_and_says_why_the_lower_bound_is_zero(tmp_path):
         assert "a lateral load needs shear" in row
     for number in re.findall(r"\| (\d+\.\d+) \|", table):
         assert len(number.replace(".", "").lstrip("0")) <= 4, number
+    stresses = re.findall(r"largest (?:tension|compression) (-?[\d.]+)(?:e-?\d+)? MPa", report)
+    assert len(stresses) >= 2
+    for number in stresses:
+        assert len(number.lstrip("-").replace(".", "").lstrip("0")) <= 4, number

@@ -63,7 +63,9 @@ def test_bootstrap_ci_of_the_mean_covers_at_its_level_and_matches_the_normal_wid
 def test_bootstrap_statistics_are_seeded_and_carry_their_estimates():
     x = np.random.default_rng(3).normal(0.0, 1.0, 40)
     a, b = sample_statistics(x, seed=5), sample_statistics(x, seed=5)
-    assert a == b
+    for name in a:  # the same interval from the same seed (only the measured cost differs)
+        assert (a[name].lo, a[name].hi, a[name].value) == (b[name].lo, b[name].hi, b[name].value)
+        assert a[name].estimate.cost_s > 0
     assert set(a) == {"mean", "std", "q05", "q50", "q95"}
     for ci in a.values():
         est = ci.estimate

@@ -16,7 +16,6 @@ import time
 
 import numpy as np
 
-from dem.estimate import Estimate
 from fem_check.rt_reconstruction import reconstruct_stress
 from limit.tresca import (
     TrescaSettings,
@@ -32,7 +31,7 @@ from limit.voronoi_packing import (
     verification_packing,
     voronoi_packing,
 )
-from validation.cases.bars import diagnostic
+from validation.cases.bars import diagnostic, per_unit
 from validation.report import Row, output_dir
 
 PRESSURE = 1.0  # imposed compression [Pa] (seed 003 Sec. 4.3, 4.5: sigma = -I on the boundary)
@@ -214,13 +213,6 @@ def _brick_wall_rows(wall) -> list[Row]:
     return rows
 
 
-def _capacity(mult) -> Estimate:
-    """tau_max / s with the certified gap between the static multiplier and the kinematic
-    one of its mechanism (the capacity lies between them)."""
-    gap = abs(mult.upper_bound - mult.load_multiplier) / S_WALL
-    return Estimate(mult.load_multiplier / S_WALL, {"duality gap": gap})
-
-
 def _brick_wall_capacity_rows(wall) -> list[Row]:
     """Shear capacity of the brick wall under the imposed compression: the full-width bed joint
     slides at tau = s."""
@@ -236,7 +228,7 @@ def _brick_wall_capacity_rows(wall) -> list[Row]:
         rows.append(
             Row(
                 "brick wall: shear capacity tau_max / s [-]",
-                _capacity(mult),
+                per_unit(mult.load_multiplier_estimate, S_WALL),
                 1.0,
                 "closed form (full-width bed joint)",
                 mult.wall_s,

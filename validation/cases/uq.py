@@ -217,69 +217,16 @@ def run_friction_uq(quick: bool):
     det, reals = recs[0], recs[1:]
     ok = [r["result"] for r in reals if r["status"] == "ok"]
     settings = {**base, "mu": f"N({MU_SEED_000}, {MU_STD_SEED_000}) per block", "root_seed": 15000}
-    rows = []
-    if det["status"] == "ok":
-        d = det["result"]
-        rows.append(
-            Row(
-                "deterministic mu = 0.23: peak load [N]",
-                d["peak_load"],
-                None,
-                "",
-                det["wall_s"],
-                settings,
-                {"failure_mode": d["failure_mode"]},
-            )
-        )
+    rows = _deterministic_rows(det, settings)
     peaks = np.array([r["peak_load"] for r in ok])
     seed_ratio, seed_label = _seed_spread()
-    rows += _stats_rows(f"P_max, {len(ok)} realisations", peaks, "N", settings)
-    if det["status"] == "ok" and len(ok) >= 2:
-        ratio = peaks / det["result"]["peak_load"]
-        rows += _stats_rows("P_max / P_max(mu = 0.23)", ratio, "-", settings)
-        if seed_ratio.size >= 2:
-            rows.append(
-                Row(
-                    "cov of P_max over the realisations [-]",
-                    float(ratio.std(ddof=1) / ratio.mean()),
-                    float(seed_ratio.std(ddof=1) / seed_ratio.mean()),
-                    seed_label,
-                    None,
-                    settings,
-                    {"seed_mean_ratio": float(seed_ratio.mean())},
-                )
-            )
+    rows += _peak_rows(peaks, det, seed_ratio, seed_label, settings)
     ult = np.array([r["ultimate_deflection_mm"] for r in ok], dtype=float)
     finite = ult[np.isfinite(ult)]
     if finite.size >= 2:
         rows += _stats_rows("ultimate deflection (blocks out)", finite, "mm", settings)
-    modes = [r["failure_mode"] for r in ok]
-    for mode in ("central out", "several blocks", "not out", "stopped"):
-        rows.append(
-            Row(
-                f"failure mode '{mode}': fraction [-]",
-                proportion(modes.count(mode), len(ok)) if ok else None,
-                None,
-                "",
-                None,
-                settings,
-                {"count": modes.count(mode)},
-            )
-        )
-    for k in (8, 16, 32, 64):
-        if 2 <= k <= len(peaks):
-            mean, half = mean_ci(peaks[:k])
-            rows.append(
-                Row(
-                    f"running mean of P_max after {k} runs [N]",
-                    Estimate(mean, {"sampling": half}, notes="Student t 95 % interval"),
-                    None,
-                    "",
-                    None,
-                    settings,
-                    {"ci95_half_width": half},
-                )
-            )
+    rows += _mode_rows([r["failure_mode"] for r in ok], settings)
+    rows += _running_mean_rows(peaks, settings)
     failed = [r for r in reals if r["status"] != "ok"]
     rows.append(
         Row(
@@ -304,6 +251,83 @@ def run_friction_uq(quick: bool):
         "unmodelled). " + _discretisation_note(base["disc"], quick)
     )
     return rows, notes
+
+
+def _deterministic_rows(det: dict, settings: dict) -> list[Row]:
+    """The deterministic run's peak load (mu = 0.23 everywhere), if it finished."""
+    if det["status"] != "ok":
+        return []
+    d = det["result"]
+    return [
+        Row(
+            "deterministic mu = 0.23: peak load [N]",
+            d["peak_load"],
+            None,
+            "",
+            det["wall_s"],
+            settings,
+            {"failure_mode": d["failure_mode"]},
+        )
+    ]
+
+
+def _peak_rows(peaks, det: dict, seed_ratio, seed_label: str, settings: dict) -> list[Row]:
+    """Statistics of the realisations' peak loads, also over the deterministic peak, and
+    their coefficient of variation against the seed's spread ``seed_ratio`` (tis-friction)."""
+    rows = _stats_rows(f"P_max, {len(peaks)} realisations", peaks, "N", settings)
+    if det["status"] != "ok" or len(peaks) < 2:
+        return rows
+    ratio = peaks / det["result"]["peak_load"]
+    rows += _stats_rows("P_max / P_max(mu = 0.23)", ratio, "-", settings)
+    if seed_ratio.size >= 2:
+        rows.append(
+            Row(
+                "cov of P_max over the realisations [-]",
+                float(ratio.std(ddof=1) / ratio.mean()),
+                float(seed_ratio.std(ddof=1) / seed_ratio.mean()),
+                seed_label,
+                None,
+                settings,
+                {"seed_mean_ratio": float(seed_ratio.mean())},
+            )
+        )
+    return rows
+
+
+def _mode_rows(modes: list[str], settings: dict) -> list[Row]:
+    """The fraction of each failure mode, with its Wilson interval."""
+    return [
+        Row(
+            f"failure mode '{mode}': fraction [-]",
+            proportion(modes.count(mode), len(modes)) if modes else None,
+            None,
+            "",
+            None,
+            settings,
+            {"count": modes.count(mode)},
+        )
+        for mode in ("central out", "several blocks", "not out", "stopped")
+    ]
+
+
+def _running_mean_rows(peaks: np.ndarray, settings: dict) -> list[Row]:
+    """The mean peak load after 8, 16, 32 and 64 runs, with its t interval."""
+    rows = []
+    for k in (8, 16, 32, 64):
+        if 2 <= k <= len(peaks):
+            mean, half = mean_ci(peaks[:k])
+            rows.append(
+                Row(
+                    f"running mean of P_max after {k} runs [N]",
+                    Estimate(mean, {"sampling": half}, notes="Student t 95 % interval"),
+                    None,
+                    "",
+                    None,
+                    settings,
+                    {"ci95_half_width": half},
+                )
+            )
+    return rows
 
 
 GAPS_RELAX_STEPS = 20000
@@ -539,41 +563,53 @@ def run_masonry_uq(quick: bool):
         "return_blocks": f"uniform integer {RETURN_BLOCKS}",
     }
     nominal, reals = recs[0], recs[1:]
-    exp = spec.reference
-    rows = []
-    if nominal["status"] == "ok":
-        r = nominal["result"]
-        rows.append(
-            Row(
-                "nominal wall (3-block returns, mu = 0.7): DEM lambda [-]",
-                r["lam_dem"],
-                exp,
-                spec.source,
-                nominal["wall_s"],
-                settings,
-                {"termination": r["termination"], "lam_upper": r["lam_upper"]},
-            )
-        )
+    rows = _nominal_rows(nominal, spec, settings)
     ok = [r["result"] for r in reals if r["status"] == "ok"]
+    rows += _realisation_rows(ok, len(reals), spec, settings)
+    return rows, _masonry_uq_notes(spec.reference, static, quick)
+
+
+def _nominal_rows(nominal: dict, spec, settings: dict) -> list[Row]:
+    """The nominal wall's DEM multiplier against the experiment, if its run finished."""
+    if nominal["status"] != "ok":
+        return []
+    r = nominal["result"]
+    return [
+        Row(
+            "nominal wall (3-block returns, mu = 0.7): DEM lambda [-]",
+            r["lam_dem"],
+            spec.reference,
+            spec.source,
+            nominal["wall_s"],
+            settings,
+            {"termination": r["termination"], "lam_upper": r["lam_upper"]},
+        )
+    ]
+
+
+def _realisation_rows(ok: list[dict], n_reals: int, spec, settings: dict) -> list[Row]:
+    """How many realisations collapsed, the statistics of their DEM multipliers and upper
+    bounds against the experiment, and whether each DEM multiplier lies below its bound."""
+    exp = spec.reference
     collapsed = [r for r in ok if r["collapsed"]]
     lam = np.array([r["lam_dem"] for r in collapsed])
     upper = np.array([r["lam_upper"] for r in ok if r["lam_upper"] is not None])
     terms = sorted({r["termination"] for r in ok if not r["collapsed"]})
-    rows.append(
+    rows = [
         Row(
             "realisations that collapsed [-]",
             exact(len(collapsed)),
-            len(reals),
+            n_reals,
             "every realisation",
             None,
             settings,
             {
                 "not_collapsed": len(ok) - len(collapsed),
                 "their_terminations": ", ".join(terms),
-                "failed": len(reals) - len(ok),
+                "failed": n_reals - len(ok),
             },
         )
-    )
+    ]
     if lam.size >= 2:
         rows += _stats_rows(
             "static DEM lambda (collapsed runs)", lam, "-", settings, exp, spec.source
@@ -597,7 +633,11 @@ def run_masonry_uq(quick: bool):
                 {"n": len(pairs)},
             )
         )
-    notes = (
+    return rows
+
+
+def _masonry_uq_notes(exp: float, static: dict, quick: bool) -> str:
+    return (
         f"Restrepo-Velez {MASONRY_SPECIMEN} (seed 001 Table 2, experiment lambda = {exp}), return "
         "walls built as blocks in corner bond. Per realisation: return-wall length uniform in "
         f"{RETURN_BLOCKS[0]}..{RETURN_BLOCKS[1]} blocks; every joint position jittered by N(0, "
@@ -614,7 +654,6 @@ def run_masonry_uq(quick: bool):
         + (str(static) if static else "the defaults (5 x 5 fibres, load step 0.01)")
         + (" (quick: coarse)." if quick else ".")
     )
-    return rows, notes
 
 
 CASES = {

@@ -14,6 +14,7 @@ from validation.crosscheck.steps import (
     Context,
     StepResult,
     finite_or_none,
+    put_estimates,
     skip_without_collapse,
 )
 
@@ -47,6 +48,8 @@ class StaticCollapse:
             "n_iterations": res.n_iterations,
             "failure": res.failure,
         }
+        # the solver's own bar of lambda_max where it gives one (load step, grid, end of path)
+        values = put_estimates(values, lambda_max=getattr(res, "lambda_estimate", None))
         reason = "" if values["collapsed"] else f"ended by {res.termination}: not a collapse"
         return StepResult(
             self.name, self.method, "ok", reason, res.wall_s, asdict(settings), values, res

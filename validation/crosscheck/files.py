@@ -95,6 +95,14 @@ def _cell(value) -> str:
     return _fmt(value)
 
 
+def _with_bar(value, error):
+    """A checked value with its method's error bar where it has one (a dict for
+    :func:`_cell`), else the bare value."""
+    if value is None or error is None:
+        return value
+    return {"value": value, "error": error}
+
+
 def _multipliers(result) -> list[list]:
     steps = {s.name: s for s in result.steps}
     rows = []
@@ -142,7 +150,16 @@ def markdown(result, files: dict, payload: dict) -> str:
         "",
         *_table(
             ["check", "result", "value", "bound", "detail"],
-            [[c.name, c.status, c.value, c.bound, c.detail] for c in result.checks],
+            [
+                [
+                    c.name,
+                    c.status,
+                    _with_bar(c.value, c.value_error),
+                    _with_bar(c.bound, c.bound_error),
+                    c.detail,
+                ]
+                for c in result.checks
+            ],  # fmt: skip
         ),
         "",
         "## Load multipliers",
@@ -166,10 +183,11 @@ def markdown(result, files: dict, payload: dict) -> str:
             "## Block stresses at the DEM collapse state (FEM)",
             "",
             f"State {fem.settings['state']} at lambda = {fem.settings['lambda']:.4g}; largest "
-            f"tension {_mpa(v['max_tension_Pa'])} MPa (block {v['max_tension_block']}), largest "
-            f"compression {_mpa(v['max_compression_Pa'])} MPa (block "
-            f"{v['max_compression_block']}); largest equilibrium residual {_fmt(v['max_residual'])}"
-            f" (tolerance {v['residual_tolerance']:g}). E = {fem.settings['young'] / 1e9:g} GPa is "
+            f"tension {_stress(v, 'max_tension_Pa')} MPa (block {v['max_tension_block']}), largest "
+            f"compression {_stress(v, 'max_compression_Pa')} MPa (block "
+            f"{v['max_compression_block']}); largest equilibrium residual "
+            f"{_cell(v['max_residual'])} (tolerance {v['residual_tolerance']:g}). "
+            f"E = {fem.settings['young'] / 1e9:g} GPa is "
             "a placeholder: the stresses of a statically determinate block do not depend on it.",
             "",
             *_table(
@@ -306,6 +324,14 @@ def _most_stressed(blocks: list[dict], tol: float) -> list[dict]:
 
     ranked = sorted(blocks, key=key, reverse=True)[:BLOCK_ROWS]
     return sorted(ranked, key=lambda b: b["block"])
+
+
+def _stress(values: dict, key: str) -> str:
+    """A stress of a step's values in MPa, with its error bar where the step has one."""
+    found = values.get("estimates", {}).get(key)
+    if isinstance(found, dict) and {"value", "error"} <= found.keys():
+        return format_estimate(float(found["value"]) / 1e6, float(found["error"]) / 1e6)
+    return _cell(_mpa(values[key]))
 
 
 def _mpa(value) -> float | None:

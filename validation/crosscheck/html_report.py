@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import html
 import logging
+import os
+import tempfile
 from pathlib import Path
 
 logger = logging.getLogger(__name__)
@@ -26,13 +28,28 @@ code { background: #f4f4f4; padding: 0 0.2em; }
 """
 
 
+WASM_DIR = "VTK_WASM_DIR_OVERRIDE"
+"""trame-vtklocal's variable naming a folder of VTK WebAssembly files; the export needs none."""
+
+
 def write_mechanism_html(plotter, path: Path) -> Path:
-    """The plotter's scene as a standalone vtk.js page (pyvista's trame export)."""
+    """The plotter's scene as a standalone vtk.js page (pyvista's trame export).
+
+    The export starts trame's server in this process once; the server's vtklocal module
+    would download VTK's WebAssembly build from the network at start unless
+    :data:`WASM_DIR` names a folder, so an empty one is named for that start (the vtk.js
+    page uses no WebAssembly).
+    """
     trame = getattr(plotter, "trame", None)
-    if trame is not None and hasattr(trame, "export_html"):
-        trame.export_html(path)
-    else:
-        plotter.export_html(path)
+    export = trame.export_html if trame is not None and hasattr(trame, "export_html") else None
+    with tempfile.TemporaryDirectory() as empty:
+        before = os.environ.get(WASM_DIR)
+        os.environ.setdefault(WASM_DIR, empty)
+        try:
+            (export or plotter.export_html)(path)
+        finally:
+            if before is None:
+                os.environ.pop(WASM_DIR, None)
     plotter.close()
     return path
 

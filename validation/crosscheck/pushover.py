@@ -20,6 +20,8 @@ NEAR_PEAK = 0.95
 REGION = 2.0
 """The picture shows this many times the displacement at which a path reaches the collapse
 region [-]."""
+
+
 def zero_lower_note(live: list[float], gravity: list[float] | None = None) -> str:
     """Why a proven lower bound is 0: it is the frictionless (Radenkovic) bound, and joints
     without friction carry no shear, which this live load (resultant ``live`` [N]) needs;

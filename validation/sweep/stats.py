@@ -4,6 +4,7 @@ deviation, quantiles) as :class:`dem.estimate.Estimate`."""
 
 from __future__ import annotations
 
+import time
 import warnings
 from dataclasses import asdict, dataclass
 
@@ -80,6 +81,8 @@ class BootstrapCI:
     method : str
         scipy's bootstrap method (``"BCa"``, or ``"percentile"`` where BCa is undefined).
     n_resamples, seed : int
+    cost_s : float
+        Wall time of the resampling [s].
     """
 
     value: float
@@ -89,6 +92,7 @@ class BootstrapCI:
     method: str
     n_resamples: int
     seed: int
+    cost_s: float = 0.0
 
     @property
     def estimate(self) -> Estimate:
@@ -99,7 +103,7 @@ class BootstrapCI:
         half = max(self.hi - self.value, self.value - self.lo, 0.0) + float(ulps)
         interval = f"[{self.lo:.6g}, {self.hi:.6g}]"
         note = f"{self.method} bootstrap {100 * self.level:g} % interval {interval}"
-        return Estimate(self.value, {"sampling": half}, notes=note)
+        return Estimate(self.value, {"sampling": half}, self.cost_s, note)
 
     def to_dict(self) -> dict:
         return {**asdict(self), "error": self.estimate.error}
@@ -144,6 +148,7 @@ def bootstrap_ci(
     value = float(fn(x))
     if np.ptp(x) == 0:
         return BootstrapCI(value, value, value, level, "degenerate", 0, seed)
+    t0 = time.perf_counter()
     for method in ("BCa", "percentile"):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", stats.DegenerateDataWarning)
@@ -153,7 +158,8 @@ def bootstrap_ci(
             )  # fmt: skip
         lo, hi = float(res.confidence_interval.low), float(res.confidence_interval.high)
         if np.isfinite(lo) and np.isfinite(hi):
-            return BootstrapCI(value, lo, hi, level, method, n_resamples, seed)
+            cost = time.perf_counter() - t0
+            return BootstrapCI(value, lo, hi, level, method, n_resamples, seed, cost)
     raise ValueError(f"no finite bootstrap interval of the {statistic} of {x.size} samples")
 
 
