@@ -152,7 +152,8 @@ def _estimates(res) -> dict:
     out: dict = {"estimates": {}}
     if res.estimate is not None:
         out["lambda_c"] = res.estimate.value
-        out["estimates"]["lambda_c"] = res.estimate.to_dict()
+        if math.isfinite(res.estimate.error):  # error budget "none": no bar to judge by
+            out["estimates"]["lambda_c"] = res.estimate.to_dict()
     if res.rigid is not None:
         out["lambda_rigid"] = res.rigid.value
         out["estimates"]["lambda_rigid"] = res.rigid.to_dict()
