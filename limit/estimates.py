@@ -162,7 +162,11 @@ class IterativeEstimate:
             else self.result.lambda_estimate
         )
         tail = iteration_tail(self.history, resolution=2.0 * base.error)
-        return base.with_source("iteration", tail)
+        # the value is lam itself, whatever the last solve's (they are one number unless a
+        # caller changed lam)
+        return Estimate(self.lam, base.sources, base.cost_s, base.notes).with_source(
+            "iteration", tail
+        )
 
     def withdraw_above(self, upper: float, lam_unit: float) -> None:
         """Withdraw ``lam`` if it is neither converged nor admissible and lies above the

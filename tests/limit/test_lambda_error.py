@@ -141,3 +141,13 @@ def test_tresca_bar_widens_for_forces_that_violate_their_rows():
     )
     assert res.load_multiplier_estimate.contains(0.7)  # closed form s / 1 Pa
     assert math.isinf(replace(res, feasibility_shift=math.nan).load_multiplier_estimate.error)
+
+
+def test_the_iterative_estimate_is_built_on_its_own_lam():
+    """Estimate (b)'s Estimate carries ``lam`` itself (a caller that changes ``lam`` changes
+    the estimate), with the last solve's sources and the iteration tail."""
+    b = bounds_and_estimates(block_on_ground(0.4, 0.3, 0.5, 0.3))
+    it = b.iterative
+    it.lam = 3.0 * it.lam
+    assert it.estimate.value == it.lam
+    assert "iteration" in it.estimate.sources
