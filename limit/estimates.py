@@ -162,11 +162,8 @@ class IterativeEstimate:
             else self.result.lambda_estimate
         )
         tail = iteration_tail(self.history, resolution=2.0 * base.error)
-        # the value is lam itself, whatever the last solve's (they are one number unless a
-        # caller changed lam)
-        return Estimate(self.lam, base.sources, base.cost_s, base.notes).with_source(
-            "iteration", tail
-        )
+        sources = {**base.sources, "iteration": tail}
+        return Estimate(self.lam, sources, base.cost_s, base.notes)
 
     def withdraw_above(self, upper: float, lam_unit: float) -> None:
         """Withdraw ``lam`` if it is neither converged nor admissible and lies above the
