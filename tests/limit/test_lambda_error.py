@@ -94,8 +94,12 @@ def test_bounds_carry_their_estimates():
     assert b.reduced_mu_estimate.value == b.reduced_mu
     assert b.reduced_mu_estimate.contains(0.3 / math.sqrt(1 + 0.3**2))
     assert math.isfinite(b.iterative.estimate.error)
+    # frictionless, the block slides at once: Radenkovic's lower bound is exactly 0
+    assert b.lower_estimate.value == b.lower == 0.0
+    assert b.lower_estimate.contains(0.0) and b.lower_estimate.error < 1e-7
     data = b.to_dict()
     assert data["upper_estimate"]["value"] == b.upper
+    assert data["lower_estimate"]["value"] == 0.0
 
 
 @pytest.mark.parametrize("solver", ["HIGHS", "CLARABEL"])
