@@ -63,6 +63,19 @@ def test_loading_rate_measured_and_the_bar_holds_b_over_h():
     assert res.rigid is None
 
 
+@pytest.mark.parametrize("start", [0.15, 0.2])
+def test_warm_start_brackets_b_over_h_from_below_and_from_above(start):
+    """A column of three 0.2 x 0.2 x 0.4 boxes with rigid joints (1/6): a warm start below
+    the collapse steps on from it; one above finds motion at once and bisects down from it;
+    both brackets hold 1/6 and are ``step / 2^refinements`` wide."""
+    scene = stack(3, 0.2, 0.2, 0.4)
+    settings = masonry_settings(scene, joint_stiffness=None)
+    driver = LiveLoadRamp(step=0.01, max_lambda=1.0, refinements=2, start=start)
+    res = simulate_lateral(scene, settings, driver)
+    assert res.lambda_moving - res.lambda_stable <= 0.01 / 4 * (1 + 1e-9)
+    assert res.lambda_stable - res.detection_lambda <= 1.0 / 6.0 <= res.lambda_moving
+
+
 def test_continuation_of_a_soft_column_reaches_b_over_h():
     """The same column with soft joints (default settings) leans and tips below 1/6; its
     continuation to rigid joints holds 1/6 within its bar, from at least two levels."""
