@@ -97,3 +97,14 @@ def test_arch_of_twenty_voussoirs_rigid_limit_within_one_percent():
     res = simulate_lateral(scene, driver=driver, continuation=RigidContinuation())
     assert res.rigid.contains(expected), (res.rigid, expected)
     assert res.rigid.error <= 0.01 * expected
+
+
+@pytest.mark.slow
+def test_full_budget_measures_time_step_and_node_spacing():
+    """The full error budget adds the time step and the node spacing (a run each at half of
+    it); the column's bar still holds 1/6."""
+    scene = stack(3, 0.2, 0.2, 0.4)
+    settings = masonry_settings(scene, joint_stiffness=None)
+    res = simulate_lateral(scene, settings, DRIVER, error="full")
+    assert {"loading rate", "time step", "node spacing"} <= set(res.estimate.sources)
+    assert math.isfinite(res.estimate.error) and res.estimate.contains(1.0 / 6.0)
