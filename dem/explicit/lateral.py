@@ -43,6 +43,7 @@ from typing import Protocol
 
 import numpy as np
 
+from dem.explicit.diagnosis import pair_forces
 from dem.explicit.model import ExplicitModel, require_free_block
 from dem.explicit.results import LateralResult
 from dem.explicit.settings import ExplicitSettings, RelaxationSettings
@@ -68,16 +69,32 @@ class MotionCriteria:
         ``|c - c_0| + R angle`` (the farthest point). Default 5e-2: above the elastic
         deflection of a load step (soft joints bend a 1 m wall by about 1 mm per step of 0.05,
         and it creeps on during the hold), so that a mechanism is told from deformation.
+    onset_fraction : float
+        ``onset_tol = onset_fraction size`` [m]; default 2e-3. A step whose largest block
+        displacement exceeds both ``onset_tol`` and ``onset_ratio`` times what the stiffest
+        response so far gives for its increment (the largest displacement per unit
+        ``lambda`` of the stable steps before it) is a moving step even if the motion
+        stopped: a mechanism that formed and was then arrested by the blocks bearing on each
+        other after a finite rotation (two columns side by side tip about their own toes and
+        overlap by ``b (1 - cos theta)``), which the rigid-block methods, in small
+        displacements, count as the collapse.
+    onset_ratio : float
+        See ``onset_fraction``; default 10 (an elastic response grows smoothly from step to
+        step; a mechanism jumps by one to two orders of magnitude).
     """
 
     speed_fraction: float = 1e-3
     displacement_fraction: float = 5e-2
+    onset_fraction: float = 2e-3
+    onset_ratio: float = 10.0
 
     def __post_init__(self):
-        for name in ("speed_fraction", "displacement_fraction"):
+        for name in ("speed_fraction", "displacement_fraction", "onset_fraction"):
             value = getattr(self, name)
             if not (math.isfinite(value) and 0 < value < 1):
                 raise ValueError(f"MotionCriteria.{name} must be in (0, 1), got {value}")
+        if not (math.isfinite(self.onset_ratio) and self.onset_ratio > 1):
+            raise ValueError(f"MotionCriteria.onset_ratio must be > 1, got {self.onset_ratio}")
 
 
 @dataclass(frozen=True)
@@ -252,12 +269,16 @@ def simulate_lateral(
     relax_info = model.relax(relaxation)
     run = _RampHold(model, driver, scene)
     outcome = run.to_collapse()
+    model.restore(outcome["state_stable"])
+    at_rest = pair_forces(model)
     return LateralResult(
         collapsed=outcome["collapsed"],
         lambda_stable=outcome["lambda_stable"],
         lambda_moving=outcome["lambda_moving"],
         moving_blocks=outcome["moving_blocks"],
         mechanism_confirmed=outcome["mechanism_confirmed"],
+        arrested=outcome["arrested"],
+        contacts_at_rest=at_rest,
         record_lambda=np.asarray(run.rec_lambda),
         record_displacement=np.asarray(run.rec_disp),
         record_time=np.asarray(run.rec_time),
@@ -295,6 +316,8 @@ class _RampHold:
         crit = driver.criteria
         self.speed_tol = crit.speed_fraction * math.sqrt(g * size)
         self.disp_tol = crit.displacement_fraction * size
+        self.onset_tol = crit.onset_fraction * size
+        self.compliance = 0.0  # largest displacement per unit lambda of the stable steps [m]
         self.hold = driver.hold if driver.hold is not None else 2.0 * math.sqrt(size / g)
         self.ramp = driver.ramp if driver.ramp is not None else self.hold
         # near the threshold a block accelerates at (1 - local damping) g epsilon
@@ -321,6 +344,8 @@ class _RampHold:
             else:
                 break
             stable, moving = self._step(lam, target)
+            if stable:
+                stable, moving = self._onset(target - lam)
             self._record(target, stable)
             if stable:
                 lam, n_stable = target, n_stable + 1
@@ -332,21 +357,41 @@ class _RampHold:
                 lam_moving, moving_blocks = target, moving
                 if halvings < driver.refinements:
                     self.model.restore(saved)
-        confirmed = False
+        confirmed = arrested = False
         if math.isfinite(lam_moving):
-            moving_blocks, confirmed = self._develop(lam, lam_moving, redo=stable)
+            moving_blocks, confirmed, arrested = self._develop(lam, lam_moving, redo=stable)
         return {
             "mechanism_confirmed": confirmed,
+            "arrested": arrested,
             "collapsed": math.isfinite(lam_moving),
             "lambda_stable": lam,
             "lambda_moving": lam_moving,
             "moving_blocks": moving_blocks,
+            "state_stable": saved,
         }
 
-    def _develop(self, lam: float, lam_moving: float, redo: bool) -> tuple[np.ndarray, bool]:
+    def _onset(self, increment: float) -> tuple[bool, np.ndarray]:
+        """Whether a step that came to rest moved as a mechanism that was arrested
+        (:class:`MotionCriteria` ``onset_fraction``): (stable, moving blocks). Updates the
+        stiffest response of the stable steps."""
+        start_pos, start_quat = self.step_start
+        disp = self.model.block_displacement(start_pos, start_quat)
+        limit = max(self.onset_tol, self.driver.criteria.onset_ratio * self.compliance * increment)
+        if self.compliance > 0.0 and disp.max() > limit:
+            logger.info("a step of %.4g moved blocks by %.3g m, %.3g times the stiffest "
+                        "response so far: a mechanism that was arrested", increment,
+                        disp.max(), disp.max() / (self.compliance * increment))  # fmt: skip
+            return False, np.flatnonzero(disp > limit).astype(np.int64)
+        self.compliance = max(self.compliance, disp.max() / increment)
+        return True, np.zeros(0, dtype=np.int64)
+
+    def _develop(self, lam: float, lam_moving: float, redo: bool) -> tuple[np.ndarray, bool, bool]:
         """Follow the motion at ``lam_moving`` until a block has moved ``DEVELOP_FACTOR``
-        displacement thresholds (at most ``2 max_hold`` holds); returns the
-        blocks that moved more than the threshold or still move faster than ``speed_tol``.
+        displacement thresholds (at most ``2 max_hold`` holds); returns the blocks that moved
+        more than the threshold (the onset limit for an arrested mechanism) or still move
+        faster than ``speed_tol``, whether the mechanism is confirmed (the motion grew, or it
+        jumped past the onset limit of :meth:`_onset` again and stopped: arrested) and
+        whether it was arrested.
 
         ``redo``: the model is at the last stable step, so ramp to ``lam_moving`` again first.
         """
@@ -363,14 +408,25 @@ class _RampHold:
             done += n_check
             disp = model.block_displacement(start_pos, start_quat)
         self._record(lam_moving, False)
-        moving = (disp > self.disp_tol) | (model.block_speed() > self.speed_tol)
-        confirmed = bool(disp.max() >= DEVELOP_FACTOR * self.disp_tol)
-        if not confirmed:
+        grew = bool(disp.max() >= DEVELOP_FACTOR * self.disp_tol)
+        onset = max(
+            self.onset_tol, self.driver.criteria.onset_ratio * self.compliance * (lam_moving - lam)
+        )
+        arrested = not grew and self.compliance > 0.0 and bool(disp.max() > onset)
+        moving = (disp > (onset if arrested else self.disp_tol)) | (
+            model.block_speed() > self.speed_tol
+        )
+        if arrested:
+            logger.info(
+                "lambda=%.4g: the mechanism stopped after %.3g m (blocks bearing on each other "
+                "after finite rotations): arrested", lam_moving, disp.max(),
+            )  # fmt: skip
+        elif not grew:
             logger.warning(
                 "lambda=%.4g: no block moved %g displacement thresholds while the motion was "
                 "followed; the mechanism is not confirmed", lam_moving, DEVELOP_FACTOR,
             )  # fmt: skip
-        return np.flatnonzero(moving).astype(np.int64), confirmed
+        return np.flatnonzero(moving).astype(np.int64), grew or arrested, arrested
 
     def _step(self, lam0: float, lam1: float) -> tuple[bool, np.ndarray]:
         """Ramp from ``lam0`` to ``lam1`` and hold; (stable, moving blocks)."""

@@ -130,9 +130,18 @@ def test_nonsense_driver_settings_refused(kwargs, name):
         TiltingTable(**kwargs)
 
 
-def test_nonsense_motion_criteria_refused():
-    with pytest.raises(ValueError, match="speed_fraction"):
-        MotionCriteria(speed_fraction=2.0)
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"speed_fraction": 2.0}, "speed_fraction"),
+        ({"onset_fraction": 0.0}, "onset_fraction"),
+        ({"onset_ratio": 1.0}, "onset_ratio"),
+        ({"onset_ratio": float("nan")}, "onset_ratio"),
+    ],
+)
+def test_nonsense_motion_criteria_refused(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        MotionCriteria(**kwargs)
 
 
 def test_masonry_settings_kn_from_material():

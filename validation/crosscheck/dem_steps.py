@@ -14,6 +14,7 @@ from validation.crosscheck.steps import (
     Context,
     StepResult,
     finite_or_none,
+    put_estimates,
     skip_without_collapse,
 )
 
@@ -47,6 +48,8 @@ class StaticCollapse:
             "n_iterations": res.n_iterations,
             "failure": res.failure,
         }
+        # the solver's own bar of lambda_max where it gives one (load step, grid, end of path)
+        values = put_estimates(values, lambda_max=getattr(res, "lambda_estimate", None))
         reason = "" if values["collapsed"] else f"ended by {res.termination}: not a collapse"
         return StepResult(
             self.name, self.method, "ok", reason, res.wall_s, asdict(settings), values, res
@@ -105,6 +108,7 @@ class ExplicitLateral:
         values = {
             "collapsed": bool(res.collapsed),
             "mechanism_confirmed": bool(res.mechanism_confirmed),
+            "arrested": bool(res.arrested),
             "lambda_stable": res.lambda_stable,
             "lambda_moving": finite_or_none(res.lambda_moving),
             "moving_blocks": [int(i) for i in res.moving_blocks],
@@ -117,5 +121,32 @@ class ExplicitLateral:
                 f"moved {DEVELOP_FACTOR:g} displacement thresholds while it was followed, so it "
                 "may still stop (lambda_moving was found by speed alone)"
             )
+        if res.arrested:
+            reason = (
+                f"the mechanism formed at lambda = {res.lambda_moving:.4g} and stopped after a "
+                "finite motion (blocks bearing on each other after finite rotations): the "
+                "bracket is its onset, the collapse of the rigid-block methods in small "
+                "displacements"
+            )
+        resisting = _resisting(res, lim)
+        if resisting:
+            values["resisting"] = resisting
+            reason = f"{reason}; {resisting}" if reason else resisting
         settings = {"driver": res.driver, "solver": res.settings}
         return StepResult(self.name, self.method, "ok", reason, res.wall_s, settings, values, res)
+
+
+def _resisting(res, lim: StepResult | None) -> str:
+    """Which contacts resisted when the explicit run was at rest above the upper bound of the
+    vertex model (a load no rigid-block structure with these interfaces carries): the block
+    pairs in contact then, those without a face interface first, with their gaps and forces
+    (:func:`dem.explicit.diagnosis.pair_forces`); empty otherwise."""
+    upper = None if lim is None else lim.values.get("upper")
+    contacts = res.contacts_at_rest
+    if upper is None or contacts is None or not res.lambda_stable > upper:
+        return ""
+    return (
+        f"at rest at lambda = {res.lambda_stable:.4g}, above the upper bound {upper:.4g}: the "
+        f"contacts that resisted (pairs without a face interface, which the limit analysis "
+        f"does not have, first): {contacts.describe()}"
+    )

@@ -95,6 +95,14 @@ def _cell(value) -> str:
     return _fmt(value)
 
 
+def _with_bar(value, error):
+    """A checked value with its method's error bar where it has one (a dict for
+    :func:`_cell`), else the bare value."""
+    if value is None or error is None:
+        return value
+    return {"value": value, "error": error}
+
+
 def _multipliers(result) -> list[list]:
     steps = {s.name: s for s in result.steps}
     rows = []
@@ -142,7 +150,16 @@ def markdown(result, files: dict, payload: dict) -> str:
         "",
         *_table(
             ["check", "result", "value", "bound", "detail"],
-            [[c.name, c.status, c.value, c.bound, c.detail] for c in result.checks],
+            [
+                [
+                    c.name,
+                    c.status,
+                    _with_bar(c.value, c.value_error),
+                    _with_bar(c.bound, c.bound_error),
+                    c.detail,
+                ]
+                for c in result.checks
+            ],  # fmt: skip
         ),
         "",
         "## Load multipliers",

@@ -337,7 +337,8 @@ def explicit_checks(ctx: Context, rtol: float) -> list[Check]:
     if upper is not None and rest is not None:
         ok, how = at_most(rest, upper, rtol, _unit(lim))
         name = "explicit lambda_stable <= upper (vertex)"
-        out.append(_check(name, ok, rest, upper, _join(bracket, how)))
+        resisting = "" if ok else v.get("resisting", "")
+        out.append(_check(name, ok, rest, upper, _join(bracket, how, resisting)))
     return out + _explicit_vs_static(ctx, exp, confirmed)
 
 
