@@ -21,6 +21,7 @@ Modules, one concern each:
 - :mod:`~dem.explicit.results`: result objects and post-processing.
 """
 
+from dem.explicit.continuation import RigidContinuation
 from dem.explicit.indentation import simulate_indentation
 from dem.explicit.lateral import LiveLoadRamp, MotionCriteria, TiltingTable, simulate_lateral
 from dem.explicit.model import ExplicitModel
@@ -49,6 +50,7 @@ __all__ = [
     "LiveLoadRamp",
     "MotionCriteria",
     "RelaxationSettings",
+    "RigidContinuation",
     "SimulationError",
     "UnmodelledContactError",
     "TiltingTable",

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from dem.estimate import Estimate
     from dem.explicit.model import ExplicitModel
 
 PEAK_DROP_FRACTION = 0.85
@@ -145,6 +146,14 @@ class LateralResult:
         The pairs of blocks in contact at the last state at rest (``lambda_stable``), with
         their forces, reference gaps and whether they share a face interface
         (:func:`dem.explicit.diagnosis.pair_forces`).
+    estimate : Estimate or None
+        The collapse multiplier at the material stiffness with its error (the bracket, and
+        what the error budget measured: loading rate, time step, node spacing); None without
+        a collapse.
+    rigid : Estimate or None
+        Its continuation to rigid joints (:func:`dem.explicit.continuation.rigid_limit`).
+    levels : list of dict
+        The runs of the continuation, the material stiffness first.
     record_lambda : (r,) float
         Multiplier at the end of each ramp-and-hold step, in the order run (bisection trials
         included).
@@ -185,6 +194,9 @@ class LateralResult:
     info: dict = field(default_factory=dict)
     arrested: bool = False
     contacts_at_rest: PairForces | None = None
+    estimate: Estimate | None = None
+    rigid: Estimate | None = None
+    levels: list = field(default_factory=list)
 
 
 def curve_summary(

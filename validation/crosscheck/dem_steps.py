@@ -4,9 +4,9 @@ under a ramped live load."""
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 
-from dem.explicit import simulate_lateral
+from dem.explicit import RigidContinuation, simulate_lateral
 from dem.explicit.lateral import DEVELOP_FACTOR, LiveLoadRamp
 from dem.scene import Scene
 from dem.static import StaticSettings, solve_collapse
@@ -72,11 +72,19 @@ class ExplicitLateral:
         [-].
     refinements : int
         Halvings of the step after the first moving one.
+    error : {"none", "cheap", "full"}
+        What the multiplier's error bar measures (:func:`dem.explicit.simulate_lateral`):
+        the bracket alone, plus the loading rate, plus the time step and node spacing.
+    continuation : RigidContinuation or None
+        Also extrapolate the multiplier to rigid joints (``lambda_rigid``), the model of the
+        limit analysis and the static DEM; None: the material stiffness only.
     """
 
     step_fraction: float = 0.125
     max_fraction: float = 1.25
     refinements: int = 4
+    error: str = "cheap"
+    continuation: RigidContinuation | None = field(default_factory=RigidContinuation)
     name: str = "explicit"
     method: str = "explicit DEM, live load ramped and held"
 
@@ -104,7 +112,8 @@ class ExplicitLateral:
                 "the limit analysis finds no mechanism: nothing to ramp towards",
             )
         driver = self.driver(ctx)
-        res = simulate_lateral(scene, driver=driver)
+        res = simulate_lateral(scene, driver=driver, error=self.error,
+                               continuation=self.continuation)  # fmt: skip
         values = {
             "collapsed": bool(res.collapsed),
             "mechanism_confirmed": bool(res.mechanism_confirmed),
@@ -114,6 +123,7 @@ class ExplicitLateral:
             "moving_blocks": [int(i) for i in res.moving_blocks],
             "detection_lambda": res.detection_lambda,
         }
+        values.update(_estimates(res))
         reason = ""
         if res.collapsed and not res.mechanism_confirmed:
             reason = (
@@ -134,6 +144,22 @@ class ExplicitLateral:
             reason = f"{reason}; {resisting}" if reason else resisting
         settings = {"driver": res.driver, "solver": res.settings}
         return StepResult(self.name, self.method, "ok", reason, res.wall_s, settings, values, res)
+
+
+def _estimates(res) -> dict:
+    """The multiplier at the material stiffness (``lambda_c``) and its rigid limit
+    (``lambda_rigid``) with their bars, and the continuation's levels, for the report."""
+    out: dict = {"estimates": {}}
+    if res.estimate is not None:
+        out["lambda_c"] = res.estimate.value
+        if math.isfinite(res.estimate.error):  # error budget "none": no bar to judge by
+            out["estimates"]["lambda_c"] = res.estimate.to_dict()
+    if res.rigid is not None:
+        out["lambda_rigid"] = res.rigid.value
+        out["estimates"]["lambda_rigid"] = res.rigid.to_dict()
+    if res.levels:
+        out["stiffness_levels"] = res.levels
+    return out
 
 
 def _resisting(res, lim: StepResult | None) -> str:
