@@ -63,6 +63,19 @@ def test_loading_rate_measured_and_the_bar_holds_b_over_h():
     assert res.rigid is None
 
 
+@pytest.mark.parametrize("start", [0.15, 0.2])
+def test_warm_start_brackets_b_over_h_from_below_and_from_above(start):
+    """A column of three 0.2 x 0.2 x 0.4 boxes with rigid joints (1/6): a warm start below
+    the collapse steps on from it; one above finds motion at once and bisects down from it;
+    both brackets hold 1/6 and are ``step / 2^refinements`` wide."""
+    scene = stack(3, 0.2, 0.2, 0.4)
+    settings = masonry_settings(scene, joint_stiffness=None)
+    driver = LiveLoadRamp(step=0.01, max_lambda=1.0, refinements=2, start=start)
+    res = simulate_lateral(scene, settings, driver)
+    assert res.lambda_moving - res.lambda_stable <= 0.01 / 4 * (1 + 1e-9)
+    assert res.lambda_stable - res.detection_lambda <= 1.0 / 6.0 <= res.lambda_moving
+
+
 def test_continuation_of_a_soft_column_reaches_b_over_h():
     """The same column with soft joints (default settings) leans and tips below 1/6; its
     continuation to rigid joints holds 1/6 within its bar, from at least two levels."""
@@ -84,3 +97,14 @@ def test_arch_of_twenty_voussoirs_rigid_limit_within_one_percent():
     res = simulate_lateral(scene, driver=driver, continuation=RigidContinuation())
     assert res.rigid.contains(expected), (res.rigid, expected)
     assert res.rigid.error <= 0.01 * expected
+
+
+@pytest.mark.slow
+def test_full_budget_measures_time_step_and_node_spacing():
+    """The full error budget adds the time step and the node spacing (a run each at half of
+    it); the column's bar still holds 1/6."""
+    scene = stack(3, 0.2, 0.2, 0.4)
+    settings = masonry_settings(scene, joint_stiffness=None)
+    res = simulate_lateral(scene, settings, DRIVER, error="full")
+    assert {"loading rate", "time step", "node spacing"} <= set(res.estimate.sources)
+    assert math.isfinite(res.estimate.error) and res.estimate.contains(1.0 / 6.0)

@@ -123,6 +123,8 @@ def test_scene_without_live_load_refused_by_live_ramp():
         ({"max_hold": 0.5}, "max_hold"),
         ({"refinements": -1}, "refinements"),
         ({"direction": (0.0, 0.0, 1.0)}, "direction"),
+        ({"start": 1.0}, "start"),
+        ({"start": -0.1}, "start"),
     ],
 )
 def test_nonsense_driver_settings_refused(kwargs, name):
