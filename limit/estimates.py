@@ -59,6 +59,7 @@ __all__ = [
     "IterativeEstimate",
     "iterative_estimate",
     "frictionless_lower_bound",
+    "frictionless_lower_estimate",
     "Bounds",
     "bounds_and_estimates",
 ]
@@ -162,7 +163,8 @@ class IterativeEstimate:
             else self.result.lambda_estimate
         )
         tail = iteration_tail(self.history, resolution=2.0 * base.error)
-        return base.with_source("iteration", tail)
+        sources = {**base.sources, "iteration": tail}
+        return Estimate(self.lam, sources, base.cost_s, base.notes)
 
     def withdraw_above(self, upper: float, lam_unit: float) -> None:
         """Withdraw ``lam`` if it is neither converged nor admissible and lies above the
@@ -317,17 +319,30 @@ def frictionless_lower_bound(
         other than the trivial statement that nothing is proven).
     note : str
     """
+    est, note = frictionless_lower_estimate(scene, settings)
+    return (None if est is None else est.value), note
+
+
+def frictionless_lower_estimate(
+    scene: Scene, settings: LimitSettings | None = None
+) -> tuple[Estimate | None, str]:
+    """:func:`frictionless_lower_bound` with its solver error (:mod:`limit.lambda_error`); a
+    bound within ten solver tolerances of zero is read as zero (interior-point solvers stop
+    just inside the cone), and what was cut off is its ``"round-off"`` source. An unbounded
+    bound (``inf``) is exact."""
     # the dead-load check of the caller concerns mu, not the frictionless structure
     settings = checked_inputs(scene, settings).with_(mu=0.0, dead_load_check=True)
     try:
         res = limit_analysis(scene, settings)
     except NoMechanismError:
-        return math.inf, "frictionless structure carries any live load"
+        return Estimate(math.inf), "frictionless structure carries any live load"
     except DeadLoadInfeasibleError:
         return None, "frictionless structure cannot carry its dead load: no lower bound"
-    # round-off of a zero bound (interior-point solvers stop just inside the cone)
-    lam = res.lam if res.lam > settings.tol * 10 else 0.0
-    return lam, "frictionless (Radenkovic) lower bound"
+    note = "frictionless (Radenkovic) lower bound"
+    if res.lam > settings.tol * 10:
+        return res.lambda_estimate, note
+    zero = Estimate(0.0, res.lambda_estimate.sources, notes=res.lambda_estimate.notes)
+    return zero.with_source("round-off", abs(res.lam)), note
 
 
 def _reduced_estimate(
@@ -377,6 +392,8 @@ class Bounds:
         Estimate (a), associated problem with ``mu*``.
     reduced_mu_estimate : Estimate or None
         Estimate (a) with its solver error (:mod:`limit.lambda_error`).
+    lower_estimate : Estimate or None
+        The lower bound with its solver error (:func:`frictionless_lower_estimate`).
     iterative : IterativeEstimate or None
         Estimate (b).
     lower : float or None
@@ -408,6 +425,7 @@ class Bounds:
     reduced_note: str = ""
     lam_unit: float = 1.0
     reduced_mu_estimate: Estimate | None = None
+    lower_estimate: Estimate | None = None
 
     @property
     def upper_estimate(self) -> Estimate:
@@ -469,6 +487,7 @@ class Bounds:
             "lower_note": self.lower_note,
             "upper_estimate": _dict(self.upper_estimate),
             "reduced_mu_estimate": _dict(self.reduced_mu_estimate),
+            "lower_estimate": _dict(self.lower_estimate),
             "iterative_estimate": None if it is None else _dict(it.estimate),
             "issues": self.issues,
             "wall_s": self.wall_s,
@@ -532,7 +551,7 @@ def bounds_and_estimates(
     lo, note = None, "not computed"
     if lower:
         t = time.perf_counter()
-        lo, note = frictionless_lower_bound(scene, settings)
+        lo, note = frictionless_lower_estimate(scene, settings)
         times["lower"] = time.perf_counter() - t
     bounds = Bounds(
         model=settings.interface_model,
@@ -540,7 +559,8 @@ def bounds_and_estimates(
         reduced_mu=None if reduced is None else reduced.value,
         reduced_mu_estimate=reduced,
         iterative=it,
-        lower=lo,
+        lower=None if lo is None else lo.value,
+        lower_estimate=lo,
         lower_note=note,
         associated=upper,
         reduced_note=reduced_note,

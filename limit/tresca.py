@@ -770,7 +770,7 @@ def _multiplier_result(point: dict, status: str, attempts: tuple, start: float):
             "Tresca load multiplier: solver returned 'optimal_inaccurate'; the point "
             "passed its certificate",
             RuntimeWarning,
-            stacklevel=3,
+            stacklevel=4,  # the caller of max_load_multiplier
         )
     wall = time.perf_counter() - start
     return TrescaMultiplierResult(

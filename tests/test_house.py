@@ -52,9 +52,6 @@ _WAITING = {
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
 """(path, function) longer than ``SOFT_LIMIT`` that wait for their split, with the reason."""
 
-KNOWN_CYCLES: dict[frozenset, str] = {}
-"""Import cycles that are being removed; any other cycle fails ``test_no_import_cycles``."""
-
 
 # -- function length ------------------------------------------------------------------------
 def function_lengths(tree: ast.AST) -> Iterator[tuple[str, int]]:
@@ -208,11 +205,5 @@ def test_import_cycles_are_found_through_relative_and_importlib_imports(tmp_path
 
 
 def test_no_import_cycles():
-    cycles = import_cycles(import_graph(REPO, PACKAGES))
-    new = [sorted(c) for c in cycles if frozenset(c) not in KNOWN_CYCLES]
-    assert not new, f"import cycles: {new}"
-
-
-def test_the_known_import_cycles_are_gone():
-    cycles = import_cycles(import_graph(REPO, PACKAGES))
-    assert not [sorted(c) for c in cycles if frozenset(c) in KNOWN_CYCLES]
+    cycles = [sorted(c) for c in import_cycles(import_graph(REPO, PACKAGES))]
+    assert not cycles, f"import cycles: {cycles}"

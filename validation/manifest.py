@@ -119,8 +119,8 @@ def _entry_problems(case: str, entry: dict, listed: dict | None, commit: str, fu
     if entry["git_commit"] != commit:
         out.append(f"{case}: from commit {entry['git_commit'][:12]}, not {commit[:12]}")
     if entry["git_clean"] is not True:
-        state = "dirty" if entry["git_clean"] is False else "unknown"
-        out.append(f"{case}: written from a {state} tree")
+        state = "a dirty" if entry["git_clean"] is False else "an unknown"
+        out.append(f"{case}: written from {state} tree")
     if full and entry["quick"]:
         out.append(f"{case}: a quick run in the full results")
     others = {c: n for c, n in entry["sweep_record_commits"].items() if c != commit}

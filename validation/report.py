@@ -101,6 +101,10 @@ class Row:
             self.error_sources = {}
         else:
             self.ours = float(self.ours)
+            if math.isnan(self.ours):
+                raise ValueError(
+                    f"row {self.quantity!r}: ours is NaN; give None (no value) and say why"
+                )
             if not self.error_sources:
                 self.error_sources = dict(Estimate.unknown(self.ours).sources)
             else:  # validated by Estimate

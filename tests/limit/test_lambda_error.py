@@ -94,8 +94,12 @@ def test_bounds_carry_their_estimates():
     assert b.reduced_mu_estimate.value == b.reduced_mu
     assert b.reduced_mu_estimate.contains(0.3 / math.sqrt(1 + 0.3**2))
     assert math.isfinite(b.iterative.estimate.error)
+    # frictionless, the block slides at once: Radenkovic's lower bound is exactly 0
+    assert b.lower_estimate.value == b.lower == 0.0
+    assert b.lower_estimate.contains(0.0) and b.lower_estimate.error < 1e-7
     data = b.to_dict()
     assert data["upper_estimate"]["value"] == b.upper
+    assert data["lower_estimate"]["value"] == 0.0
 
 
 @pytest.mark.parametrize("solver", ["HIGHS", "CLARABEL"])
@@ -141,3 +145,13 @@ def test_tresca_bar_widens_for_forces_that_violate_their_rows():
     )
     assert res.load_multiplier_estimate.contains(0.7)  # closed form s / 1 Pa
     assert math.isinf(replace(res, feasibility_shift=math.nan).load_multiplier_estimate.error)
+
+
+def test_the_iterative_estimate_is_built_on_its_own_lam():
+    """Estimate (b)'s Estimate carries ``lam`` itself (a caller that changes ``lam`` changes
+    the estimate), with the last solve's sources and the iteration tail."""
+    b = bounds_and_estimates(block_on_ground(0.4, 0.3, 0.5, 0.3))
+    it = b.iterative
+    it.lam = 3.0 * it.lam
+    assert it.estimate.value == it.lam
+    assert "iteration" in it.estimate.sources

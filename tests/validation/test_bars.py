@@ -11,7 +11,6 @@ from validation.cases.bars import (
     EPS,
     diagnostic,
     exact,
-    explicit_bracket,
     moved_copy,
     per_unit,
     proportion,
@@ -64,9 +63,6 @@ def test_per_unit_scales_every_source_and_marks_a_missing_bar():
     assert bare.value == 2.0 and math.isinf(bare.error)
 
 
-def test_the_explicit_bracket_is_named_but_not_a_whole_bar():
-    est = explicit_bracket(0.245, 0.25, 0.001)
-    assert est.value == 0.25 and est.sources["load-step bracket"] == pytest.approx(0.006)
-    assert math.isinf(est.error)  # time step, rate and node spacing are not estimated
+def test_a_discrepancy_has_no_bar_of_its_own():
     assert math.isinf(diagnostic(1e-12).error)
     np.testing.assert_allclose(exact(0.5).value, 0.5)

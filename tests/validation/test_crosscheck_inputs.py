@@ -106,6 +106,11 @@ def _no_supports(tmp_path):
     return _write_obj(tmp_path / "s.obj", _wall().assembly.blocks), ["--fixed-below", "-5"]
 
 
+def _no_supports_mm(tmp_path):
+    path = _write_obj(tmp_path / "s.obj", _wall().assembly.blocks, scale=1e3)
+    return path, ["--units", "mm", "--fixed-below", "-100"]
+
+
 def _empty(tmp_path):
     path = tmp_path / "s.obj"
     path.write_text("# nothing but a comment\nv 0 0 0\n")
@@ -128,11 +133,13 @@ def _light(tmp_path):
         (_open, "body 4 of s.obj (object 'brick_4') is open: 4 edges"),
         (_non_convex, "body 0 of s.obj is not a convex block"),
         (_no_supports, "no supports: no block is fixed and no dof restrained (--fixed-below -5"),
+        # centroids of the 100 mm courses and the foundation: -50 .. 250 mm
+        (_no_supports_mm, "fixes none); block centroids lie at z = -50 .. 250 mm"),
         (_empty, "no surface polygons"),
         (_in_mm, "m across (over 100 m): is the file in mm? give --units mm"),
         (_light, "the median density is 2.4 kg/m^3 (below 10)"),
     ],
-    ids=["overlap", "open", "non-convex", "no-supports", "empty", "mm", "t/m3"],
+    ids=["overlap", "open", "non-convex", "no-supports", "no-supports-mm", "empty", "mm", "t/m3"],
 )
 def test_unusable_input_is_one_line_and_exit_2(tmp_path, capfd, make, message):
     path, extra = make(tmp_path)

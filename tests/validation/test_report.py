@@ -190,6 +190,11 @@ def test_a_reference_outside_the_bar_says_which_error_it_is():
     assert Row("n/a", None).ours_error is None and Row("n/a", None).error_sources == {}
 
 
+def test_a_row_refuses_a_nan_value():
+    with pytest.raises(ValueError, match="ours is NaN; give None"):
+        Row("ultimate deflection [mm]", float("nan"))
+
+
 def test_a_row_rejects_a_bad_bar():
     with pytest.raises(ValueError, match="half-width"):
         Row("x", 1.0, error_sources={"grid": -1e-3})

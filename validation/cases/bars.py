@@ -57,17 +57,6 @@ def two_levels(fine: float, coarse: float, source: str, notes: str = "") -> Esti
     return Estimate(float(fine), sources, notes=notes)
 
 
-def explicit_bracket(lambda_stable: float, lambda_moving: float, detection: float) -> Estimate:
-    """The explicit DEM's ``lambda_moving`` with the bar of its load-step bracket: the collapse
-    multiplier of the explicit model lies in ``(lambda_stable - detection, lambda_moving]``
-    (``detection``: how far a motion can sit undetected within the longest hold). Its other
-    sources (time step, loading rate, node spacing) are not estimated here: an infinite
-    source says so until the explicit DEM gives its own estimate."""
-    width = lambda_moving - (lambda_stable - detection)
-    sources = {"load-step bracket": width, "time step, rate, node spacing": math.inf}
-    return Estimate(float(lambda_moving), sources, notes="explicit bracket only")
-
-
 def static_lambda(result, scale: float = 1.0) -> Estimate:
     """The static DEM's collapse multiplier times ``scale`` with the solver's own error bar
     (``StaticResult.lambda_estimate``: load step, fibre grid, end of path), scaled; unknown

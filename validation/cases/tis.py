@@ -165,12 +165,12 @@ def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict)
         Row(f"{label}: loading energy [N mm]", res.loading_energy / MM, None, "", wall, settings),
         Row(
             f"{label}: ultimate deflection [mm]",
-            res.ultimate_deflection / MM,
+            None if math.isnan(res.ultimate_deflection) else res.ultimate_deflection / MM,
             None,
             "",
             wall,
             settings,
-            # nan when the run stopped before the block was out: blocks passing through
+            # no value when the run stopped before the block was out: blocks passing through
             # each other where no contact node was seeded (dem.explicit.unmodelled)
             {"stopped_by": res.info.get("stopped_by", "")},
         ),  # fmt: skip

@@ -124,11 +124,12 @@ def check_usable(scene, fixed_below: float | None = None) -> None:
     scene.assembly.interfaces()  # raises OverlapError (a ValueError) on overlapping blocks
     fixed = scene.supports.fixed
     if not fixed.any() and not scene.supports.restrained.any():
-        z = scene.assembly.centroid[:, 2]
+        units = scene.meta.get("units", "m")  # the user's lengths, as --fixed-below takes them
+        z = scene.assembly.centroid[:, 2] / LENGTH_UNITS[units]
         below = "" if fixed_below is None else f" (--fixed-below {fixed_below:g} fixes none)"
         raise ValueError(
             f"no supports: no block is fixed and no dof restrained{below}; block centroids "
-            f"lie at z = {z.min():.4g} .. {z.max():.4g} m. Fix blocks with --fixed, "
+            f"lie at z = {z.min():.4g} .. {z.max():.4g} {units}. Fix blocks with --fixed, "
             "--fixed-below, --fixed-group or [supports] in the TOML"
         )
     if fixed.all():

@@ -58,7 +58,11 @@ def _bounds(ax, ctx: Context) -> list[float]:
     drawn = []
     for model, colour in COLOURS.items():
         res = ctx.ok(f"limit-{model}")
-        if res is None or not math.isfinite(res.values["upper"]):
+        if res is None:
+            continue
+        if not math.isfinite(res.values["upper"]):
+            label = f"{model} model: no collapse mechanism (the upper bound is unbounded)"
+            ax.plot([], [], color=colour, lw=WIDTH[model], label=label)
             continue
         v = res.values
         upper, lower = v["upper"], v.get("lower")
@@ -130,7 +134,10 @@ def render_pushover(ctx: Context, png: Path, tail: bool = False) -> Path | None:
         shown = f"paths up to their collapse region (they go on to {longest:.3g} mm)"
     ax.set_xlabel(f"control displacement (live-load weighted mean) [mm]\n{shown}")
     ax.set_ylabel("load multiplier lambda [-]")
-    ax.set_title("static DEM pushover, limit-analysis bounds and the explicit DEM bracket")
+    parts = ["static DEM pushover"] if curves else []
+    parts += ["limit-analysis bounds"] if any(limits) else []
+    parts += ["the explicit DEM bracket"] if ctx.ok("explicit") is not None else []
+    ax.set_title(", ".join(parts[:-1]) + (" and " if len(parts) > 1 else "") + parts[-1])
     ax.grid(alpha=0.3)
     fig.legend(loc="lower center", ncol=1, fontsize=8, frameon=False)
     n_entries = len(ax.get_legend_handles_labels()[0])

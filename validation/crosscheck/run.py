@@ -76,11 +76,12 @@ class CrosscheckSettings:
     @classmethod
     def quick(cls, **kw) -> CrosscheckSettings:
         """Smaller settings for a first look: 10 updates of estimate (b), coarse FEM mesh, a
-        wider explicit bracket (3 halvings of the step)."""
+        wider explicit bracket (3 halvings of the step) without its error estimate or rigid
+        limit."""
         return cls(
             max_updates=10,
             fem=FemCheck(mesh_fraction=0.4),
-            explicit=ExplicitLateral(refinements=3),
+            explicit=ExplicitLateral(refinements=3, error="none", continuation=None),
             **kw,
         )
 
