@@ -25,7 +25,9 @@ Catalogue (limit analysis, :mod:`limit.lambda_error`):
   digits): the certified bisection of 20 and 40 voussoirs, extrapolated in the voussoir
   count (order 2, :func:`dem.estimate.richardson`), with the two bisection brackets.
 
-The static DEM and the explicit DEM join this catalogue as their estimates land.
+Explicit DEM (:func:`dem.explicit.simulate_lateral`): stacks of one to three blocks tipping
+at b / (n h) or sliding at mu, with rigid joints (``error="cheap"``: load step, detection,
+loading rate) and with soft joints continued to rigid ones (``RigidContinuation``).
 """
 
 from __future__ import annotations
@@ -38,10 +40,11 @@ import numpy as np
 import pytest
 
 from dem.estimate import Estimate, richardson
-from dem.scene import Scene, proportional_to_weight
+from dem.scene import Scene
+from dem.scenes import stack
 from dem.scenes.arch import HEYMAN_T_OVER_R, voussoir_arch
 from limit import LimitSettings, geometric_safety_factor, limit_analysis
-from tests.limit._scenes import GROUND, block_on_ground, box, torsion_pair
+from tests.limit._scenes import block_on_ground, torsion_pair
 from tests.limit.test_closed_forms import _sliding_block
 
 LA_RESOLUTION = 1e-8
@@ -94,16 +97,6 @@ def _la_case(name, scene_fn, exact, settings=None, error="cheap") -> Case:
     return Case(name, lambda: _la(scene_fn(), settings, error), exact, 0.0, resolution)
 
 
-def stack(n: int, b: float, h: float, mu: float, depth: float = 0.3) -> Scene:
-    """``n`` aligned blocks ``b x depth x h`` on the fixed ground, live load = weights
-    along +x."""
-    blocks = [GROUND] + [
-        box((-b / 2, -depth / 2, k * h), (b / 2, depth / 2, (k + 1) * h)) for k in range(n)
-    ]
-    scene = Scene.from_convex_blocks(blocks, 2000.0, fixed=[0], mu=mu)
-    return scene.with_loads(live=proportional_to_weight(scene.assembly, (1.0, 0.0, 0.0)))
-
-
 def _tensile_slide(sigma_t: float, mu: float) -> tuple[Scene, float]:
     scene = block_on_ground(1.0, 1.0, 0.2, mu)
     weight = scene.assembly.mass[1] * 9.81
@@ -135,7 +128,7 @@ def limit_cases() -> list[Case]:
             cases.append(
                 _la_case(
                     f"stack of {n}, {b}x{h}, mu {mu} [{model}]",
-                    lambda n=n, b=b, h=h, mu=mu: stack(n, b, h, mu),
+                    lambda n=n, b=b, h=h, mu=mu: stack(n, b, 0.3, h, mu=mu),
                     min(mu, b / (n * h)),
                     s,
                 )
@@ -234,6 +227,49 @@ def arch_cases() -> list[Case]:
     return [Case("least t/r, semicircular arch", _arch_extrapolated, HEYMAN_T_OVER_R, 5e-5, 0.0)]
 
 
+EXPLICIT_RESOLUTION = 1e-9
+"""No explicit multiplier is nearer than its bracket's width to the answer by round-off: any
+true error above this counts."""
+
+
+def _explicit(n: int, b: float, h: float, mu: float, rigid_joints: bool) -> Estimate:
+    """The explicit DEM's multiplier of ``stack(n, b, b, h)`` pushed by its weight: at rigid
+    joints its material value with the ``"cheap"`` budget (load step, detection, loading
+    rate); with the default (soft) joints its continuation to rigid joints."""
+    from dem.explicit import RigidContinuation, masonry_settings, simulate_lateral
+    from dem.explicit.lateral import LiveLoadRamp
+
+    scene = stack(n, b, b, h, mu=mu)
+    driver = LiveLoadRamp(step=0.05, max_lambda=1.0, refinements=4)
+    if rigid_joints:
+        settings = masonry_settings(scene, joint_stiffness=None)
+        return simulate_lateral(scene, settings, driver, error="cheap").estimate
+    res = simulate_lateral(scene, driver=driver, continuation=RigidContinuation(rtol=0.02))
+    return res.rigid
+
+
+JOINTS = {True: "rigid joints", False: "soft joints, rigid limit"}
+
+
+def explicit_cases(fast: bool) -> list[Case]:
+    """Blocks and columns tipping at b / (n h) or sliding at mu (rigid joints, cheap budget),
+    and a soft column continued to rigid joints; ``fast``: one of each kind."""
+    specs = [(1, 0.2, 0.5, 0.9, True), (3, 0.2, 0.4, 0.6, False)]
+    if not fast:
+        specs += [(2, 0.3, 0.4, 0.9, True), (3, 0.2, 0.4, 0.6, True), (1, 0.5, 0.2, 0.3, True),
+                  (2, 0.4, 0.25, 0.5, True)]  # fmt: skip
+    return [
+        Case(
+            f"explicit: stack of {n}, {b}x{h}, mu {mu}, " + JOINTS[rigid],
+            lambda n=n, b=b, h=h, mu=mu, rigid=rigid: _explicit(n, b, h, mu, rigid),
+            min(mu, b / (n * h)),
+            0.0,
+            EXPLICIT_RESOLUTION,
+        )
+        for n, b, h, mu, rigid in specs
+    ]
+
+
 def run_catalogue(cases: list[Case]) -> list[Outcome]:
     return [Outcome(c, c.run()) for c in cases]
 
@@ -270,6 +306,15 @@ def test_arch_least_thickness_bar_is_calibrated():
     check(run_catalogue(arch_cases()))
 
 
+def test_explicit_bars_are_calibrated_fast_subset():
+    check(run_catalogue(explicit_cases(fast=True)))
+
+
+@pytest.mark.slow  # six explicit runs with their loading-rate reruns: ~40 s on a busy machine
+def test_explicit_bars_are_calibrated():
+    check(run_catalogue(explicit_cases(fast=False)))
+
+
 def test_the_calibration_can_fail():
     """A bar a thousand times too small is not covered, and one a thousand times too wide
     fails the ratio: the check is not decorative."""
@@ -283,7 +328,12 @@ def test_the_calibration_can_fail():
 
 
 if __name__ == "__main__":  # the counts for a report: python -m tests.test_error_calibration
-    catalogue = (("limit", limit_cases()), ("tresca", tresca_cases()), ("arch", arch_cases()))
+    catalogue = (
+        ("limit", limit_cases()),
+        ("tresca", tresca_cases()),
+        ("arch", arch_cases()),
+        ("explicit", explicit_cases(fast=False)),
+    )
     for name, cases in catalogue:
         outcomes = run_catalogue(cases)
         print(name, summary(outcomes))

@@ -359,6 +359,14 @@ def test_the_rigid_limit_is_compared_and_the_stiffness_effect_measured():
     (check,) = [c for c in explicit_checks(ctx, 1e-6) if "static DEM fibre" in c.name]
     assert check.status == "pass" and check.value == 0.284
     assert "lowers it by 0.042 (14.8% of the rigid limit)" in check.detail
+    # the rigid limit against the associated upper bound (0.2852 of the arch): below it by
+    # the bars, and above it when the bar cannot reach it
+    limit = _with({**LIMIT, "upper": 0.2852}, upper=1e-10)
+    for rigid, status in ((0.284, "pass"), (0.29, "fail")):
+        explicit = _with({**EXPLICIT, "lambda_rigid": rigid}, lambda_rigid=0.002)
+        ctx = _ctx(explicit=explicit, **{"limit-vertex": limit})
+        (line,) = [c for c in explicit_checks(ctx, 1e-6) if "rigid limit <= upper" in c.name]
+        assert line.status == status, rigid
 
 
 @pytest.mark.parametrize("metre", [1.0, 1e-3], ids=["m", "mm"])

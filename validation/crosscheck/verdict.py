@@ -11,7 +11,8 @@ What must hold between the methods (each line says which theorem or check it res
   model (fibre law ~ vertex model, resultant law ~ resultant model);
 - the two DEM laws agree, or the report says why not;
 - the explicit run collapsed, its motion confirmed (it grew when followed), its last state
-  at rest lies below the upper bound, and it agrees with the static DEM;
+  at rest and its rigid-limit continuation lie below the upper bound, and it agrees with the
+  static DEM;
 - every block of the DEM collapse state is in equilibrium (FEM residual).
 
 Every number is compared with its error bar (:class:`~dem.estimate.Estimate`, from the
@@ -339,6 +340,12 @@ def explicit_checks(ctx: Context, rtol: float) -> list[Check]:
         name = "explicit lambda_stable <= upper (vertex)"
         resisting = "" if ok else v.get("resisting", "")
         out.append(_check(name, ok, rest, upper, _join(bracket, how, resisting)))
+    rigid = estimate_of(exp, "lambda_rigid")
+    if upper is not None and rigid is not None and confirmed:
+        # rigid blocks with Coulomb friction: the associated multiplier bounds the collapse
+        ok, how = at_most(rigid, upper, rtol, _unit(lim))
+        detail = _join(f"rigid limit of the explicit run {rigid.format()}", how)
+        out.append(_check("explicit rigid limit <= upper (vertex)", ok, rigid, upper, detail))
     return out + _explicit_vs_static(ctx, exp, confirmed)
 
 
