@@ -10,6 +10,15 @@ Usage::
     python benchmarks/bench_limit.py --huge     # adds a 9,900-block wall (minutes)
     python benchmarks/bench_limit.py --quick    # up to about 1,000 blocks
     python benchmarks/bench_limit.py --models vertex resultant --json out.json
+    python benchmarks/bench_limit.py --speed-error   # speed against error (figure data)
+
+``--speed-error`` writes ``speed-error-limit.json`` (``--out``, default ``benchmarks/results/``,
+committed with its commit and date) for ``paper_figures.fig_speed_error_methods``: on a
+263-block wall, the inscribed friction polygons of 4 to 32 sides (estimated error: the
+outer-polygon bracket of ``error="cheap"``; true error: the distance to the exact cones) and
+Clarabel's tolerance from 1e-4 to 1e-10 with the exact cones (estimated: ``lambda_estimate``;
+true: the distance to the solve at 1e-11). Errors (estimated and true) are relative to the
+returned lambda.
 
 Speed targets of issue 4: a Table 2 wall (about 300 blocks) in under 1 s, 10,000 blocks in
 under 60 s on 2 cores. Times are wall-clock on a shared machine: compare ratios within a run.
@@ -36,10 +45,12 @@ import argparse
 import json
 import time
 import warnings
+from pathlib import Path
 
 from dem.scenes.running_bond_wall import running_bond_wall
 from limit.problems import LimitSettings, build_static_problem
-from limit.solve import solve_static
+from limit.solve import limit_analysis, solve_static
+from validation.provenance import REPO, stamp
 
 SIZES_FULL = ((6, 13), (12, 21), (24, 40), (50, 60))
 SIZE_HUGE = (70, 140)
@@ -75,14 +86,75 @@ def bench_one(n_per_course: int, n_courses: int, model: str, certify: bool = Tru
     }
 
 
+SPEED_ERROR_DIR = REPO / "benchmarks" / "results"
+SPEED_ERROR_WALL = (12, 21)
+POLYGON_SIDES = (4, 8, 16, 32)
+TOLERANCES = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+
+
+def _timed(scene, settings, error: str = "cheap") -> tuple[float, object]:
+    t0 = time.perf_counter()
+    res = limit_analysis(scene, settings, error=error)
+    return time.perf_counter() - t0, res
+
+
+def speed_error() -> dict:
+    """Cost, estimated and true relative error of lambda along two refinements (module
+    notes)."""
+    scene = running_bond_wall(
+        *SPEED_ERROR_WALL, 28.24, 79.78, 39.68, 26.8, mu=0.7, fixed_columns=("left",)
+    )
+    base = LimitSettings(dead_load_check=False)
+    exact = limit_analysis(scene, base.with_(tol=1e-11, cert_tol=1e-4)).lam
+    series = []
+    polygon = {"label": "inscribed friction polygon, 4-32 sides (cheap bracket)",
+               "cost_s": [], "estimated": [], "true": [], "sides": list(POLYGON_SIDES)}  # fmt: skip
+    for k in POLYGON_SIDES:
+        cost, res = _timed(scene, base.with_(friction_polygon=k))
+        polygon["cost_s"].append(cost)
+        polygon["estimated"].append(res.lambda_estimate.error / abs(res.lam))
+        polygon["true"].append(abs(res.lam - exact) / abs(res.lam))
+    series.append(polygon)
+    tol = {"label": "Clarabel tolerance 1e-4 to 1e-10 (exact cones)",
+           "cost_s": [], "estimated": [], "true": [], "tol": list(TOLERANCES)}  # fmt: skip
+    for t in TOLERANCES:
+        cost, res = _timed(scene, base.with_(tol=t, cert_tol=5e-2))
+        tol["cost_s"].append(cost)
+        tol["estimated"].append(res.lambda_estimate.error / abs(res.lam))
+        tol["true"].append(abs(res.lam - exact) / abs(res.lam))
+    series.append(tol)
+    n_blocks = scene.n_blocks
+    return {"method": "limit analysis (cvxpy + Clarabel)", "scene": f"{n_blocks}-block wall",
+            "lambda_exact": exact, "series": series}  # fmt: skip
+
+
+def write_speed_error(out: str | None) -> None:
+    t0 = time.perf_counter()
+    data = speed_error()
+    data = {**stamp(), "wall_s": time.perf_counter() - t0, **data}
+    path = Path(out) if out else SPEED_ERROR_DIR / "speed-error-limit.json"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(data, indent=1))
+    for s in data["series"]:
+        print(s["label"])
+        for c, e, t in zip(s["cost_s"], s["estimated"], s["true"], strict=True):
+            print(f"  {c:8.3f} s  estimated {e:9.2e}  true {t:9.2e}")
+    print(f"wrote {path}")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--huge", action="store_true", help="add a 9,900-block wall")
     parser.add_argument("--models", nargs="+", default=["vertex", "resultant"])
     parser.add_argument("--json", default=None)
+    parser.add_argument("--speed-error", action="store_true", help="figure data (see notes)")
+    parser.add_argument("--out", default=None, help="where --speed-error writes its JSON")
     args = parser.parse_args(argv)
     warnings.filterwarnings("ignore")
+    if args.speed_error:
+        write_speed_error(args.out)
+        return 0
     sizes = SIZES_QUICK if args.quick else SIZES_FULL
     if args.huge:
         sizes = (*sizes, SIZE_HUGE)

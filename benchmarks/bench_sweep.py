@@ -37,12 +37,13 @@ from dem.tis_stiffness import K_GAPS_SEED_000, k_series, tis_panel_k_def
 from dem.units import GPA, MM
 from validation.cases.tis import QUICK
 from validation.cases.uq import tis_friction_task
+from validation.report import reading_dir
 from validation.sweep import DaskExecutor, SerialExecutor, latest_records, make_tasks, run_sweep
 from validation.sweep.demo import tilting_block
 from validation.sweep.execute import execute_task_one_thread, one_numba_thread
 from validation.sweep.executors import local_cluster
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
+RESULTS = reading_dir()  # validation/results, or BLOCKMECH_RESULTS (quick or a path)
 K_IMP_3 = k_series(tis_panel_k_def(3), K_GAPS_SEED_000) / (GPA / MM)
 SMALL = {"n": 3, "theta_deg": 2.5, "k_n_gpa_mm": K_IMP_3, "disc": QUICK, "mu_mean": 0.23,
          "mu_std": 0.06, "stop_below_peak_fraction": 0.85}  # fmt: skip

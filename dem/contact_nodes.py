@@ -66,6 +66,9 @@ class ContactNodes:
         Global face index (into ``assembly.arrays``).
     weight : (n_blocks, n_blocks) float64
         Counting weight of nodes of block ``a`` acting against block ``b`` (1, 1/2 or 0).
+    patch_centre, patch_u, patch_v : (n_nodes, 3) float64
+        The box of face each node stands for (:func:`node_patches`): centre [m] and half
+        sides along the face's axes [m].
     indenter_block, indenter_point, indenter_area
         The nodes that act against the indenter only: (k,) int64, (k, 3) [m], (k,) [m^2].
     spacing : float
@@ -78,6 +81,9 @@ class ContactNodes:
     area: np.ndarray
     face: np.ndarray
     weight: np.ndarray
+    patch_centre: np.ndarray
+    patch_u: np.ndarray
+    patch_v: np.ndarray
     indenter_block: np.ndarray
     indenter_point: np.ndarray
     indenter_area: np.ndarray
@@ -153,14 +159,8 @@ def seed_face(
     """
     if not spacing > 0 or not math.isfinite(spacing):
         raise ValueError(f"node spacing must be positive and finite, got {spacing}")
-    u, v = _face_frame(polygon, normal)
-    origin = polygon[0]
-    poly2 = np.column_stack([(polygon - origin) @ u, (polygon - origin) @ v])
+    u, v, origin, poly2, start, (n_u, n_v) = _face_grid(polygon, normal, spacing)
     lo, hi = poly2.min(axis=0), poly2.max(axis=0)
-    n_u = max(1, math.ceil((hi[0] - lo[0]) / spacing - 1e-9))
-    n_v = max(1, math.ceil((hi[1] - lo[1]) / spacing - 1e-9))
-    # centre the grid on the face's bounding box so that the edge cells are symmetric
-    start = 0.5 * (lo + hi) - 0.5 * spacing * np.array([n_u, n_v])
     first, stop = np.zeros(2, dtype=np.int64), np.array([n_u, n_v], dtype=np.int64)
     if window is not None:
         centre, half = window
@@ -232,6 +232,85 @@ def seed_face(
     p2 = corner_pts[first]
     points = origin + p2[:, :1] * u + p2[:, 1:] * v
     return points, area
+
+
+def _face_grid(polygon: np.ndarray, normal: np.ndarray, spacing: float) -> tuple:
+    """The face's grid: axes ``u``, ``v`` (3,), origin (3,) [m], the polygon in ``(u, v)``
+    (k, 2) [m], the grid's corner ``start`` (2,) [m] and its cell counts ``(n_u, n_v)``; the
+    grid is centred on the face's bounding box so that the edge cells are symmetric."""
+    u, v = _face_frame(polygon, normal)
+    origin = polygon[0]
+    poly2 = np.column_stack([(polygon - origin) @ u, (polygon - origin) @ v])
+    lo, hi = poly2.min(axis=0), poly2.max(axis=0)
+    n_u = max(1, math.ceil((hi[0] - lo[0]) / spacing - 1e-9))
+    n_v = max(1, math.ceil((hi[1] - lo[1]) / spacing - 1e-9))
+    start = 0.5 * (lo + hi) - 0.5 * spacing * np.array([n_u, n_v])
+    return u, v, origin, poly2, start, (n_u, n_v)
+
+
+def node_patches(
+    polygon: np.ndarray, normal: np.ndarray, spacing: float, points: np.ndarray, layout: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The patch of face each node of :func:`seed_face` stands for, as a box on the face.
+
+    A node's patch is its grid cell (``"centroid"`` layout) or, ``"vertex"`` layout, the box
+    reaching half way to the next grid line (or face edge) on either side along each axis
+    (the quarters of the cells around a corner, whose areas it shares), clipped to the face;
+    the box is the clipped patch's bounding box along the face's axes. On a face that is a
+    rectangle along the grid (masonry faces) the boxes tile the face. The contact law uses it
+    to count only the part of a node's patch that lies over the neighbour
+    (:func:`dem.kernels.contact_force._compatible_plane`).
+
+    Parameters
+    ----------
+    polygon, normal, spacing
+        As :func:`seed_face`.
+    points : (m, 3) float
+        The nodes of :func:`seed_face` on this face [m].
+    layout : {"centroid", "vertex"}
+
+    Returns
+    -------
+    centre : (m, 3) float
+        Centre of each box [m].
+    half_u, half_v : (m, 3) float
+        Half sides of each box as vectors along the face's axes [m].
+    """
+    u, v, origin, poly2, start, counts = _face_grid(polygon, normal, spacing)
+    p2 = np.column_stack([(points - origin) @ u, (points - origin) @ v])
+    if layout == "vertex":
+        lo, hi = np.empty_like(p2), np.empty_like(p2)
+        for k in range(2):
+            lines = np.unique(np.clip(start[k] + spacing * np.arange(counts[k] + 1),
+                                      poly2[:, k].min(), poly2[:, k].max()))  # fmt: skip
+            tol = 1e-9 * spacing
+            below = np.searchsorted(lines, p2[:, k] - tol) - 1
+            above = np.searchsorted(lines, p2[:, k] + tol, side="right")
+            prev = np.where(below >= 0, lines[np.maximum(below, 0)], p2[:, k])
+            nxt = np.where(above < len(lines), lines[np.minimum(above, len(lines) - 1)],
+                           p2[:, k])  # fmt: skip
+            lo[:, k], hi[:, k] = 0.5 * (p2[:, k] + prev), 0.5 * (p2[:, k] + nxt)
+    else:
+        lo = start + spacing * np.floor((p2 - start) / spacing)
+        hi = lo + spacing
+    edge = np.roll(poly2, -1, axis=0) - poly2
+    scale = spacing * np.linalg.norm(edge, axis=1)
+    corners = np.stack([lo, np.column_stack([hi[:, 0], lo[:, 1]]), hi,
+                        np.column_stack([lo[:, 0], hi[:, 1]])], axis=1)  # fmt: skip
+    inside = np.ones(len(p2), dtype=bool)
+    for k in range(len(poly2)):
+        rel = corners - poly2[k]
+        side = edge[k, 0] * rel[..., 1] - edge[k, 1] * rel[..., 0]
+        inside &= np.all(side >= -1e-12 * scale[k], axis=1)
+    for k in np.flatnonzero(~inside):
+        piece = clip_convex_polygons(corners[k], poly2)
+        if len(piece) >= 3:
+            lo[k], hi[k] = piece.min(axis=0), piece.max(axis=0)
+        else:  # a patch that meets the face in a point or a line (round-off): the node alone
+            lo[k], hi[k] = p2[k], p2[k]
+    mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    centre = origin + mid[:, :1] * u + mid[:, 1:] * v
+    return centre, half[:, :1] * u, half[:, 1:] * v
 
 
 def _touching_face_pairs(assembly: Assembly, margin: float) -> list[tuple[int, int, int, int]]:
@@ -364,7 +443,7 @@ def seed_contact_nodes(
         weight[owner, other] = 1.0
         weight[other, owner] = 0.0
         seeded.add((owner, face))
-    blocks_l, points_l, normals_l, areas_l, faces_l = [], [], [], [], []
+    blocks_l, points_l, normals_l, areas_l, faces_l, patches_l = [], [], [], [], [], []
     short = []  # (reach, block, face) of faces whose nodes fall short of their edges
     for owner, face in sorted(seeded):
         blk = assembly.blocks[owner]
@@ -378,6 +457,7 @@ def seed_contact_nodes(
         normals_l.append(np.repeat(blk.normals[face][None, :], len(areas), axis=0))
         areas_l.append(areas)
         faces_l.append(np.full(len(areas), arrays.face_ptr[owner] + face, dtype=np.int64))
+        patches_l.append(node_patches(polygon, blk.normals[face], spacing, pts, layout))
     if short:
         _warn_short_reach(short, spacing, layout)
     ind_b, ind_p, ind_a = [], [], []
@@ -413,6 +493,9 @@ def seed_contact_nodes(
         area=cat(areas_l) if areas_l else np.zeros(0),
         face=cat(faces_l) if faces_l else empty_i,
         weight=weight,
+        patch_centre=cat([p[0] for p in patches_l]) if patches_l else np.zeros((0, 3)),
+        patch_u=cat([p[1] for p in patches_l]) if patches_l else np.zeros((0, 3)),
+        patch_v=cat([p[2] for p in patches_l]) if patches_l else np.zeros((0, 3)),
         indenter_block=cat(ind_b) if ind_b else empty_i,
         indenter_point=cat(ind_p) if ind_p else np.zeros((0, 3)),
         indenter_area=cat(ind_a) if ind_a else np.zeros(0),

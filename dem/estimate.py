@@ -133,16 +133,24 @@ def _json_float(x: float) -> float | str:
     return x if math.isfinite(x) else str(x)
 
 
+FINE_RELATIVE = 1e-6
+"""Below this relative half-width a value is printed to 7 significant digits."""
+
+
 def format_estimate(value: float, error: float, sig_error: int = 2) -> str:
     """``value ± error`` with the error to ``sig_error`` significant digits and the value to
     the same decimal place; an exact value keeps 6 significant digits, an unknown error
-    (``inf``) shows ``± ?`` after 4 significant digits."""
+    (``inf``) shows ``± ?`` after 4 significant digits, and an error below
+    :data:`FINE_RELATIVE` of the value shows the value to 7 significant digits and the error
+    in scientific notation (a certified gap of 1e-11 does not make a reader count 12 zeros)."""
     if not math.isfinite(value):
         return str(value)
     if math.isinf(error):
         return f"{value:.4g} ± ?"
     if error <= 0:
         return f"{value:.6g}"
+    if error < FINE_RELATIVE * abs(value):
+        return f"{value:.7g} ± {error:.{sig_error - 1}e}"
     exponent = math.floor(math.log10(error)) - (sig_error - 1)
     decimals = max(0, -exponent)
     if abs(value) >= 1e6 or (value != 0 and abs(value) < 1e-4):

@@ -147,6 +147,73 @@ def write_interfaces_vtu(
     return path
 
 
+SCALAR_BAR = {
+    "vertical": False,
+    "position_x": 0.2,
+    "position_y": 0.03,
+    "width": 0.6,
+    "height": 0.05,
+    "fmt": "%.3g",
+    "title_font_size": 16,
+    "label_font_size": 14,
+}
+"""Colour bar of every 3D picture: along the bottom edge, clear of the title at the top."""
+
+
+def scalar_bar(title: str, unit: str, **extra) -> dict:
+    """``scalar_bar_args`` of a colour bar titled ``title [unit]``."""
+    return {**SCALAR_BAR, "title": f"{title} [{unit}]", **extra}
+
+
+def new_picture(window_size: tuple[int, int] = (1200, 900)):
+    """An off-screen pyvista plotter on a white background."""
+    import pyvista as pv
+
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    plotter.set_background("white")
+    return plotter
+
+
+def finish_picture(
+    plotter,
+    path: str | Path,
+    title: str,
+    labels: np.ndarray | None = None,
+) -> Path:
+    """Add the reader's aids and save: an x-y-z axes triad in the lower left corner, the
+    title along the top edge (one or two lines) and, if ``labels`` (``(n_blocks, 3)``
+    points [m]) is given, each block's number at its point; isometric view."""
+    plotter.add_axes(color="black", line_width=3, viewport=(0.0, 0.0, 0.16, 0.22))
+    if labels is not None:
+        plotter.add_point_labels(
+            np.asarray(labels, dtype=float),
+            [str(i) for i in range(len(labels))],
+            font_size=14,
+            point_size=1,
+            shape_opacity=0.6,
+            always_visible=True,
+        )
+    plotter.add_text(title, position="upper_edge", font_size=11, color="black")
+    plotter.view_isometric()
+    plotter.camera.zoom(0.9)
+    path = Path(path)
+    plotter.screenshot(str(path))
+    plotter.close()
+    return path
+
+
+def block_polydata(assembly: Assembly, points: np.ndarray | None = None):
+    """The blocks' polygonal faces as one ``pyvista.PolyData`` with cell data ``block``."""
+    import pyvista as pv
+
+    arrays = assembly.arrays
+    sizes = np.diff(arrays.face_vert_ptr)
+    faces = np.insert(arrays.face_vert, arrays.face_vert_ptr[:-1], sizes)
+    surface = pv.PolyData(arrays.vertices if points is None else points, faces)
+    surface.cell_data["block"] = np.repeat(np.arange(assembly.n_blocks), np.diff(arrays.face_ptr))
+    return surface
+
+
 def render_scene(
     path: str | Path,
     scene: Scene,
@@ -155,24 +222,29 @@ def render_scene(
     rotation: np.ndarray | None = None,
     centroid: np.ndarray | None = None,
     window_size: tuple[int, int] = (1200, 900),
+    unit: str = "-",
+    title: str | None = None,
+    block_numbers: bool = False,
 ) -> Path:
-    """Draw the blocks off-screen to a PNG, coloured by a per-block scalar (default: fixed)."""
-    import pyvista as pv
-
+    """Draw the blocks off-screen to a PNG, coloured by a per-block scalar (default: fixed),
+    with an axes triad, a colour bar titled ``scalar_name [unit]``, a title (default: the
+    scene's name) and, if asked, the block numbers."""
     points = posed_vertices(scene.assembly, rotation, centroid)
-    arrays = scene.assembly.arrays
-    sizes = np.diff(arrays.face_vert_ptr)
-    faces = np.insert(arrays.face_vert, arrays.face_vert_ptr[:-1], sizes)
-    owner = np.repeat(np.arange(scene.n_blocks), np.diff(arrays.face_ptr))
-    surface = pv.PolyData(points, faces)
+    surface = block_polydata(scene.assembly, points)
     values = scene.supports.fixed.astype(float) if scalars is None else np.asarray(scalars)
     if values.shape[0] != scene.n_blocks:
         raise ValueError(f"scalars must have one value per block ({scene.n_blocks})")
-    surface.cell_data[scalar_name] = values[owner]
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-    plotter.add_mesh(surface, scalars=scalar_name, show_edges=True, cmap="viridis")
-    plotter.view_isometric()
-    path = Path(path)
-    plotter.screenshot(str(path))
-    plotter.close()
-    return path
+    surface.cell_data[scalar_name] = values[surface.cell_data["block"]]
+    plotter = new_picture(window_size)
+    plotter.add_mesh(
+        surface,
+        scalars=scalar_name,
+        show_edges=True,
+        cmap="viridis",
+        scalar_bar_args=scalar_bar(scalar_name, unit),
+    )
+    owner = np.repeat(np.arange(scene.n_blocks), np.diff(scene.assembly.arrays.vert_ptr))
+    labels = np.array([points[owner == i].mean(axis=0) for i in range(scene.n_blocks)])
+    return finish_picture(
+        plotter, path, scene.name if title is None else title, labels if block_numbers else None
+    )

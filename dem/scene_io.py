@@ -2,8 +2,9 @@
 
 - A volume mesh read with meshio (gmsh ``.msh``, ``.vtu``, ``.vtk``, ``.xdmf``, ...): one block
   per 3D cell (tetrahedra, hexahedra, wedges, pyramids or VTK polyhedra). Cells must be linear.
-- Surfaces of convex bodies (OBJ, STL, PLY, OFF through meshio), one file or a folder of them:
-  one block per connected component of the surface.
+- Surfaces of convex bodies (OBJ, STL, PLY, OFF), one file or a folder of them: one block per
+  object (OBJ ``o``/``g``, STL ``solid``) and, within an object, per body of faces joined
+  across shared edges (:mod:`dem.surface_io`); an open body is refused.
 - The project's scene JSON (:meth:`dem.Scene.from_json`).
 
 A cell or body is accepted only if it is convex: its corners are exactly the corners of their
@@ -25,8 +26,17 @@ from pathlib import Path
 import numpy as np
 
 from dem.geometry.polyhedron import ConvexBlock, convex_block
-from dem.scene import Assembly, Loads, Scene, Supports, point_load, proportional_to_weight
-from dem.units import G
+from dem.scene import (
+    LARGE_BLOCK,
+    LIGHT_DENSITY,
+    Assembly,
+    Loads,
+    Scene,
+    Supports,
+    point_load,
+    proportional_to_weight,
+)
+from dem.units import LENGTH_UNITS, G
 
 logger = logging.getLogger(__name__)
 
@@ -170,46 +180,21 @@ def blocks_of_mesh(mesh, label: str = "mesh") -> list[ConvexBlock]:
     ]
 
 
-def _merged(points: np.ndarray, faces: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
-    """Merge points closer than ``PLANE_TOL`` times the extent (STL repeats every corner)."""
-    scale = float(np.linalg.norm(np.ptp(points, axis=0))) or 1.0
-    keys = np.round(points / (PLANE_TOL * scale * 10)).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.ravel()
-    return points[first], [inverse[f] for f in faces]
-
-
-def _bodies(path: Path) -> list[tuple[np.ndarray, list[np.ndarray]]]:
-    """Connected components (points, faces) of the surface in one file."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    mesh = _read(path)
-    faces = [np.asarray(f) for cb in mesh.cells if cb.dim == 2 for f in cb.data]
-    if not faces:
-        raise ValueError(f"{path}: no surface polygons to make bodies of")
-    points, faces = _merged(np.asarray(mesh.points, dtype=float), faces)
-    rows = np.concatenate([np.repeat(f[0], len(f)) for f in faces])
-    cols = np.concatenate(faces)
-    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(points),) * 2)
-    n, label = connected_components(graph, directed=False)
-    used = np.zeros(len(points), dtype=bool)
-    used[cols] = True
-    out = []
-    for c in sorted(set(label[used].tolist())):
-        ids = np.flatnonzero((label == c) & used)
-        local = np.full(len(points), -1)
-        local[ids] = np.arange(len(ids))
-        out.append((points[ids], [local[f] for f in faces if label[f[0]] == c]))
-    return out
-
-
 def blocks_from_surfaces(path: str | Path) -> list[ConvexBlock]:
     """One convex block per closed body in a surface file, or in every such file of a folder.
 
-    Files of a folder are read in name order; the bodies of a file in the order of their
-    first point. A body is named in errors by its file and its index in that file.
+    Bodies are found by :func:`dem.surface_io.read_surface_bodies`: by object (OBJ
+    ``o``/``g``, STL ``solid``), then by faces joined across shared edges, never by corners
+    merged across objects (blocks of a wall share corners). Files of a folder are read in
+    name order. A body is named in errors by its file, its index in that file and its object.
+
+    Raises
+    ------
+    ValueError
+        No surface file, an open body (its open edges named) or a body that is not convex.
     """
+    from dem.surface_io import read_surface_bodies
+
     path = Path(path)
     files = (
         sorted(p for p in path.iterdir() if p.suffix.lower() in SURFACE_SUFFIXES)
@@ -220,8 +205,9 @@ def blocks_from_surfaces(path: str | Path) -> list[ConvexBlock]:
         raise ValueError(f"{path}: no {'/'.join(SURFACE_SUFFIXES)} files in the folder")
     blocks = []
     for f in files:
-        for k, (pts, faces) in enumerate(_bodies(f)):
-            blocks.append(checked_block(pts, faces, f"body {k} of {f.name}"))
+        for k, body in enumerate(read_surface_bodies(f)):
+            named = f" (object {body.name!r})" if body.name else ""
+            blocks.append(checked_block(body.points, body.faces, f"body {k} of {f.name}{named}"))
     return blocks
 
 
@@ -301,6 +287,7 @@ def _table(schema: dict):
 TOML_SCHEMA = _table(
     {
         "name": _text,
+        "units": _text,
         "material": _table({"density": _number, "mu": _number}),
         "supports": _table(
             {
@@ -352,6 +339,12 @@ class SceneSpec:
         ``{"block": i, "point": (x, y, z), "force": (fx, fy, fz), "kind": "dead" | "live"}``
         [m, N].
     name : str or None
+    units : {"m", "cm", "mm"} or None
+        Length unit of the file's coordinates and of this spec's lengths (``fixed_below``,
+        ``fixed_boxes``, point-load points); :meth:`in_si` converts them once. None: metres,
+        and a scene whose median block is over :data:`dem.scene.LARGE_BLOCK` m or whose median
+        density is below :data:`dem.scene.LIGHT_DENSITY` kg/m^3 is refused as a likely units
+        mistake; a unit given (even ``"m"``) says the scene is meant so.
     """
 
     density: float | None = None
@@ -364,8 +357,11 @@ class SceneSpec:
     live: tuple[float, float, float] | None = None
     point_loads: tuple[dict, ...] = ()
     name: str | None = None
+    units: str | None = None
 
     def __post_init__(self):
+        if self.units is not None and self.units not in LENGTH_UNITS:
+            raise ValueError(f"units must be one of {', '.join(LENGTH_UNITS)}, got {self.units!r}")
         if self.density is not None and not (math.isfinite(self.density) and self.density > 0):
             raise ValueError(f"density must be finite and positive [kg/m^3], got {self.density}")
         if self.mu is not None and not (math.isfinite(self.mu) and self.mu >= 0):
@@ -412,6 +408,7 @@ class SceneSpec:
         Example::
 
             name = "barn wall"
+            units = "mm"            # lengths of the file and of this TOML (default m)
             [material]
             density = 2000.0        # kg/m^3
             mu = 0.6
@@ -454,9 +451,29 @@ class SceneSpec:
                 live=loads.get("live"),
                 point_loads=loads.get("point", ()),
                 name=data.get("name"),
+                units=data.get("units"),
             )
         except ValueError as exc:
             raise ValueError(f"{path}: {exc}") from exc
+
+    @property
+    def length_scale(self) -> float:
+        """Metres per length unit of the input [m]."""
+        return LENGTH_UNITS[self.units or "m"]
+
+    def in_si(self) -> SceneSpec:
+        """A copy whose lengths are in metres (``units`` kept: the user's word on the units)."""
+        f = self.length_scale
+        if f == 1.0:
+            return self
+        return replace(
+            self,
+            fixed_below=None if self.fixed_below is None else self.fixed_below * f,
+            fixed_boxes=tuple(tuple(c * f for c in box) for box in self.fixed_boxes),
+            point_loads=tuple(
+                {**load, "point": tuple(c * f for c in load["point"])} for load in self.point_loads
+            ),
+        )
 
     def fixed_mask(self, assembly: Assembly, groups: dict | None = None) -> np.ndarray:
         """(n_blocks,) bool: the blocks this spec fixes (``groups``: name -> block ids)."""
@@ -484,7 +501,7 @@ class SceneSpec:
     def apply(self, scene: Scene) -> Scene:
         """The scene with this spec's supports and loads added (the file's ones are kept)."""
         a = scene.assembly
-        if self.mu is not None:
+        if self.mu is not None and (a.mu is None or np.any(a.mu != self.mu)):
             a = Assembly(a.blocks, a.density, self.mu)
         fixed = scene.supports.fixed | self.fixed_mask(a, scene.meta.get("groups"))
         supports = Supports(fixed, scene.supports.restrained & ~fixed[:, None])
@@ -520,7 +537,8 @@ def read_scene(
     Raises
     ------
     ValueError
-        A non-convex cell or body (named), a mesh without density, bad TOML content.
+        A non-convex or open cell or body (named), a mesh without density, bad TOML content,
+        or a scene far from SI without ``units`` (see :func:`check_scale`).
     """
     path = Path(path)
     if not path.exists():
@@ -531,14 +549,17 @@ def read_scene(
         logger.info("supports and loads from %s", toml)
     spec = base if spec is None else base.merged(spec)
     if path.suffix.lower() == ".json":
+        if spec.length_scale != 1.0:
+            raise ValueError(
+                f"{path}: a scene JSON is in metres; units {spec.units!r} applies to mesh and "
+                "surface files only"
+            )
         scene = Scene.from_json(path)
+        density = scene.assembly.density if spec.density is None else spec.density
+        check_scale(scene.assembly.blocks, density, spec, path)
         if spec.density is not None:
-            scene = Scene(
-                Assembly(scene.assembly.blocks, spec.density, scene.assembly.mu),
-                scene.supports,
-                scene.loads,
-                scene.name,
-                scene.meta,
+            scene = replace(
+                scene, assembly=Assembly(scene.assembly.blocks, density, scene.assembly.mu)
             )
         return spec.apply(scene)
     groups: dict[str, list[int]] = {}
@@ -552,6 +573,9 @@ def read_scene(
             f"{path}: a mesh has no density; give it in the TOML ([material] density) or on the "
             "command line (--density) [kg/m^3]"
         )
+    blocks = [scaled_block(b, spec.length_scale) for b in blocks]
+    check_scale(blocks, spec.density, spec, path)
+    spec = spec.in_si()
     assembly = Assembly(tuple(blocks), spec.density, spec.mu)
     n = assembly.n_blocks
     zero = np.zeros((n, 6))
@@ -560,6 +584,48 @@ def read_scene(
         Supports.none(n),
         Loads(np.asarray(spec.gravity, dtype=float), zero, zero.copy()),
         spec.name or path.stem,
-        {"source": str(path), "groups": groups},
+        {"source": str(path), "groups": groups, "units": spec.units or "m"},
     )
     return spec.apply(scene)
+
+
+def scaled_block(block: ConvexBlock, factor: float) -> ConvexBlock:
+    """``block`` with every length multiplied by ``factor`` (units to metres) [-]."""
+    if factor == 1.0:
+        return block
+    return replace(
+        block,
+        vertices=block.vertices * factor,
+        offsets=block.offsets * factor,
+        volume=block.volume * factor**3,
+        centroid=block.centroid * factor,
+        inertia=block.inertia * factor**5,
+    )
+
+
+def check_scale(blocks, density, spec: SceneSpec, path: Path) -> None:
+    """Refuse, unless ``spec.units`` is given, a scene whose median block is over
+    :data:`LARGE_BLOCK` m across or whose median density is below :data:`LIGHT_DENSITY`
+    kg/m^3: a file in mm read as metres, a density in t/m^3.
+
+    Raises
+    ------
+    ValueError
+        Naming what was seen and ``--units mm`` (or ``units`` in the TOML).
+    """
+    if spec.units is not None:
+        return
+    size = float(np.median([b.size for b in blocks]))
+    rho = float(np.median(np.broadcast_to(np.asarray(density, dtype=float), (len(blocks),))))
+    if size > LARGE_BLOCK:
+        raise ValueError(
+            f"{path}: the median block is {size:.3g} m across (over {LARGE_BLOCK:g} m): is the "
+            'file in mm? give --units mm (or units = "mm" in the TOML; cm and m too, m if '
+            "it is meant so)"
+        )
+    if rho < LIGHT_DENSITY:
+        raise ValueError(
+            f"{path}: the median density is {rho:.3g} kg/m^3 (below {LIGHT_DENSITY:g}): density "
+            "is in kg/m^3 (2400, not 2.4 t/m^3); give --units mm, cm or m to say the scene is "
+            "meant so"
+        )

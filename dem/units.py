@@ -9,3 +9,7 @@ KN = 1e3  # [N]
 KN_M3 = 1e3  # unit weight [N/m^3]
 N_MM3 = 1e9  # contact stiffness N/mm^3 -> [Pa/m]
 G = 9.81  # standard gravity [m/s^2]
+CM = 1e-2  # [m]
+
+LENGTH_UNITS = {"m": 1.0, "cm": CM, "mm": MM}
+"""Length units a user's file may be in, as metres per unit (``--units``, TOML ``units``)."""

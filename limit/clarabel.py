@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import cvxpy as cp
 import numpy as np
 
+from dem.estimate import Estimate
 from limit.certificates import (
     LOCAL_TOL,
     Certificate,
@@ -35,6 +36,7 @@ from limit.errors import (
     NoMechanismError,
     NumericalFailureError,
 )
+from limit.lambda_error import solver_estimate
 from limit.matrices import rocking_constraints
 from limit.problems import LimitSettings, StaticProblem
 
@@ -132,6 +134,13 @@ class LimitResult:
     settings : dict
     attempts : list of (str, str)
         ``(attempt, status)`` of every Clarabel solve, in order.
+    lambda_estimate : Estimate
+        ``lam`` with the half-width of the interval that holds the exact optimum of this
+        programme, by source (:mod:`limit.lambda_error`): the solver's duality gap and
+        feasibility shift, and the friction polygon's bracket where
+        :func:`limit.limit_analysis` computed one. Unknown (``inf``) without a certificate.
+        It is not the distance to the non-associated collapse multiplier
+        (:mod:`limit.estimates`).
     """
 
     lam: float
@@ -153,6 +162,7 @@ class LimitResult:
     n_cones: int
     settings: dict = field(default_factory=dict)
     attempts: list = field(default_factory=list)
+    lambda_estimate: Estimate | None = None
 
     def summary(self) -> dict:
         """Scalars for a validation row."""
@@ -166,6 +176,9 @@ class LimitResult:
             "wall_s": self.wall_s,
             "certificate_worst": self.certificate.worst(),
             "duality_gap": self.certificate.duality_gap,
+            "lambda_estimate": None
+            if self.lambda_estimate is None
+            else self.lambda_estimate.to_dict(),
         }
 
 
@@ -197,9 +210,9 @@ def structural_error(status: str, outcomes: dict, history: str) -> LimitAnalysis
 
 
 def attempts_for(sp_: StaticProblem) -> tuple[Attempt, ...]:
-    """A programme of second-order cones only (vertex model) is first solved without
-    Clarabel's iterative refinement of the KKT solves, which costs 15-25 % on large walls and
-    changed no certified result we measured."""
+    """The Clarabel attempts of a programme, in order: one of second-order cones only (vertex
+    model) is first solved without iterative refinement of the KKT solves (the certificate
+    decides whether that solve is good enough; refinement is the next attempt)."""
     if sp_.model == "vertex" and "iterative_refinement_enable" not in sp_.settings.clarabel:
         return (Attempt("fast", refine=False), REFINED, TIGHTENED)
     return (REFINED, TIGHTENED)
@@ -344,6 +357,7 @@ def _read_solution(
         n_interfaces=sp_.interfaces.n_interfaces,
         n_cones=sp_.n_cones,
         settings=settings.to_dict(),
+        lambda_estimate=solver_estimate(lam, cert),
     )
 
 
@@ -365,6 +379,7 @@ def static_certificate(sp_: StaticProblem, f, vertex_forces, lam) -> Certificate
         complementarity=conic["complementarity"],
         dual_objective=conic["dual_objective"] * sp_.lam_scale,
         local_residual=_local_residual(sp_, f, lam, viol),
+        feasibility_shift=conic["feasibility_shift"] * sp_.lam_scale,
     )
 
 

@@ -54,7 +54,7 @@ STANDS_TOL = 1e-6
 
 @dataclass(frozen=True)
 class StandsResult:
-    """Outcome of :func:`stands`.
+    r"""Outcome of :func:`stands`.
 
     Attributes
     ----------

@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.scene import Scene
 from limit.deadload import require_standing, stands
 from limit.errors import (
@@ -47,6 +48,7 @@ from limit.errors import (
     LimitAnalysisError,
     NoMechanismError,
 )
+from limit.lambda_error import iteration_tail
 from limit.problems import LimitSettings, StaticProblem, build_static_problem, checked_inputs
 from limit.solve import LimitResult, check_scene, limit_analysis, solve_static
 
@@ -57,6 +59,7 @@ __all__ = [
     "IterativeEstimate",
     "iterative_estimate",
     "frictionless_lower_bound",
+    "frictionless_lower_estimate",
     "Bounds",
     "bounds_and_estimates",
 ]
@@ -147,6 +150,21 @@ class IterativeEstimate:
     failure: str = ""
     wall_s: float = 0.0
     note: str = ""
+
+    @property
+    def estimate(self) -> Estimate | None:
+        """``lam`` with its error bar: the last solve's solver error and the ``"iteration"``
+        tail of the history (:mod:`limit.lambda_error`); None when ``lam`` is."""
+        if self.lam is None:
+            return None
+        base = (
+            Estimate.unknown(self.lam, "no solve of the iteration")
+            if self.result is None
+            else self.result.lambda_estimate
+        )
+        tail = iteration_tail(self.history, resolution=2.0 * base.error)
+        sources = {**base.sources, "iteration": tail}
+        return Estimate(self.lam, sources, base.cost_s, base.notes)
 
     def withdraw_above(self, upper: float, lam_unit: float) -> None:
         """Withdraw ``lam`` if it is neither converged nor admissible and lies above the
@@ -301,22 +319,35 @@ def frictionless_lower_bound(
         other than the trivial statement that nothing is proven).
     note : str
     """
+    est, note = frictionless_lower_estimate(scene, settings)
+    return (None if est is None else est.value), note
+
+
+def frictionless_lower_estimate(
+    scene: Scene, settings: LimitSettings | None = None
+) -> tuple[Estimate | None, str]:
+    """:func:`frictionless_lower_bound` with its solver error (:mod:`limit.lambda_error`); a
+    bound within ten solver tolerances of zero is read as zero (interior-point solvers stop
+    just inside the cone), and what was cut off is its ``"round-off"`` source. An unbounded
+    bound (``inf``) is exact."""
     # the dead-load check of the caller concerns mu, not the frictionless structure
     settings = checked_inputs(scene, settings).with_(mu=0.0, dead_load_check=True)
     try:
         res = limit_analysis(scene, settings)
     except NoMechanismError:
-        return math.inf, "frictionless structure carries any live load"
+        return Estimate(math.inf), "frictionless structure carries any live load"
     except DeadLoadInfeasibleError:
         return None, "frictionless structure cannot carry its dead load: no lower bound"
-    # round-off of a zero bound (interior-point solvers stop just inside the cone)
-    lam = res.lam if res.lam > settings.tol * 10 else 0.0
-    return lam, "frictionless (Radenkovic) lower bound"
+    note = "frictionless (Radenkovic) lower bound"
+    if res.lam > settings.tol * 10:
+        return res.lambda_estimate, note
+    zero = Estimate(0.0, res.lambda_estimate.sources, notes=res.lambda_estimate.notes)
+    return zero.with_source("round-off", abs(res.lam)), note
 
 
 def _reduced_estimate(
     scene: Scene, settings: LimitSettings, sp_: StaticProblem
-) -> tuple[float | None, str]:
+) -> tuple[Estimate | None, str]:
     """Estimate (a) on the compiled associated programme ``sp_`` (its friction is restored).
 
     The associated problem with ``mu*`` has a collapse multiplier only if the structure
@@ -327,15 +358,15 @@ def _reduced_estimate(
 
     Returns
     -------
-    lam : float or None
-        The estimate [-], None when there is none.
+    lam : Estimate or None
+        The estimate [-] with its solver error, None when there is none.
     note : str
     """
     mu = sp_.mu_interface
     mu_star = _reduced(mu)  # inf stays inf: no cone
     sp_.set_friction(mu_star)
     try:
-        lam = solve_static(sp_).lam
+        lam = solve_static(sp_).lambda_estimate
         check = stands(scene, settings, mu=mu_star)
     except LimitAnalysisError as exc:
         logger.info("reduced-friction estimate failed: %s", exc)
@@ -359,6 +390,10 @@ class Bounds:
         Associated multiplier (proven upper bound for zero-dilatancy friction).
     reduced_mu : float or None
         Estimate (a), associated problem with ``mu*``.
+    reduced_mu_estimate : Estimate or None
+        Estimate (a) with its solver error (:mod:`limit.lambda_error`).
+    lower_estimate : Estimate or None
+        The lower bound with its solver error (:func:`frictionless_lower_estimate`).
     iterative : IterativeEstimate or None
         Estimate (b).
     lower : float or None
@@ -389,6 +424,14 @@ class Bounds:
     issues: list = field(default_factory=list)
     reduced_note: str = ""
     lam_unit: float = 1.0
+    reduced_mu_estimate: Estimate | None = None
+    lower_estimate: Estimate | None = None
+
+    @property
+    def upper_estimate(self) -> Estimate:
+        """The upper bound with its error bar (the solver's error of the associated
+        programme, :attr:`LimitResult.lambda_estimate`)."""
+        return self.associated.lambda_estimate
 
     @property
     def consistent(self) -> bool:
@@ -442,9 +485,17 @@ class Bounds:
             "iterative_note": None if it is None else it.note,
             "lower": self.lower,
             "lower_note": self.lower_note,
+            "upper_estimate": _dict(self.upper_estimate),
+            "reduced_mu_estimate": _dict(self.reduced_mu_estimate),
+            "lower_estimate": _dict(self.lower_estimate),
+            "iterative_estimate": None if it is None else _dict(it.estimate),
             "issues": self.issues,
             "wall_s": self.wall_s,
         }
+
+
+def _dict(estimate: Estimate | None) -> dict | None:
+    return None if estimate is None else estimate.to_dict()
 
 
 def bounds_and_estimates(
@@ -500,14 +551,16 @@ def bounds_and_estimates(
     lo, note = None, "not computed"
     if lower:
         t = time.perf_counter()
-        lo, note = frictionless_lower_bound(scene, settings)
+        lo, note = frictionless_lower_estimate(scene, settings)
         times["lower"] = time.perf_counter() - t
     bounds = Bounds(
         model=settings.interface_model,
         upper=upper.lam,
-        reduced_mu=reduced,
+        reduced_mu=None if reduced is None else reduced.value,
+        reduced_mu_estimate=reduced,
         iterative=it,
-        lower=lo,
+        lower=None if lo is None else lo.value,
+        lower_estimate=lo,
         lower_note=note,
         associated=upper,
         reduced_note=reduced_note,

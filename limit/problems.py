@@ -157,6 +157,11 @@ class LimitSettings:
         Largest accepted relative certificate residual (equilibrium, cones, gap) [-].
     clarabel : dict
         Further Clarabel settings (e.g. ``{"direct_solve_method": "qdldl"}``).
+    torsion_bending : bool
+        Resultant model, associated problem only: reduce the torsion capacity with bending,
+        ``|M3|`` below the tangent plane at ``e = 0`` of ``mu c c_T(l_u - 2|e_u|, l_v -
+        2|e_v|)``, the capacity of the reduced rectangle (rectangular interfaces; seed 001
+        Fig. 10, Orduna and Lourenco 2005a). Default False.
     dead_load_check : bool
         Before a multiplier is returned, prove that the dead load alone is carried
         (:func:`limit.stands`: one more solve of the same size). Without it, a structure that
@@ -214,6 +219,7 @@ class LimitSettings:
         return replace(self, **kw)
 
     def to_dict(self) -> dict:
+        """Every setting by name (for results and JSON)."""
         return {k: getattr(self, k) for k in self.__dataclass_fields__}
 
 
@@ -267,7 +273,7 @@ class StaticProblem:
     weight, length, lam_scale : float
         Scales ``W`` [N], ``L`` [m] and ``W/|F_L|``.
     row_scale : (n_free,) float
-        Equilibrium row ``i`` was multiplied by ``row_scale[i]``.
+        Equilibrium row ``i`` is multiplied by ``row_scale[i]``.
     interfaces, vertex_iface, vertex_local, mu_interface, c_t
         Geometry and strength data for post-processing.
     """
@@ -354,6 +360,49 @@ def _polygon_directions(k: int) -> tuple[np.ndarray, float]:
     return np.stack([np.cos(ang), np.sin(ang)], axis=1), math.cos(math.pi / k)
 
 
+@dataclass(eq=False)
+class _ScaledData:
+    """The scene's data of a static programme, SI and scaled (see :class:`StaticProblem`).
+
+    ``d_dead`` and ``d_live`` are the scaled dead load (with the vertex model's tension shift)
+    and live load on the free dofs; ``s_rows`` the row scaling; ``f_t`` (m,) the tension
+    capacity ``sigma_t A`` [N] per interface; ``mu_interface`` (m,) the friction coefficients."""
+
+    interfaces: object
+    free: np.ndarray
+    a_eq: sp.csr_matrix
+    dead: np.ndarray
+    live: np.ndarray
+    weight: float
+    length: float
+    row_scale: np.ndarray
+    lam_scale: float
+    mu_interface: np.ndarray
+    c_t: np.ndarray
+    vertex_iface: np.ndarray
+    vertex_local: np.ndarray
+    f_t: np.ndarray
+    f_offset: np.ndarray
+    s_rows: sp.spmatrix
+    d_dead: np.ndarray
+    d_live: np.ndarray
+
+
+@dataclass(eq=False)
+class _Programme:
+    """The model-specific part of a static programme: its equilibrium, its other constraints
+    (in order), the unknowns ``x_vars`` with their map ``f_map`` to SI interface forces, the
+    friction Parameter, the fixed-capacity Parameters and model notes."""
+
+    equilibrium: cp.Constraint
+    constraints: list
+    x_vars: list
+    f_map: sp.spmatrix
+    mu: cp.Parameter
+    capacity: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)
+
+
 def build_static_problem(
     scene: Scene, settings: LimitSettings | None = None, friction: str = "coulomb"
 ) -> StaticProblem:
@@ -377,195 +426,215 @@ def build_static_problem(
     settings = checked_inputs(scene, settings)
     if friction not in _FRICTION:
         raise ValueError(f"friction must be one of {_FRICTION}, got {friction!r}")
+    data = _scaled_data(scene, settings)
+    lam = cp.Variable(name="lam")
+    build = _vertex_programme if settings.interface_model == "vertex" else _resultant_programme
+    prog = build(data, settings, friction, lam)
+    prog.f_map = sp.csr_matrix(prog.f_map)
+    return StaticProblem(
+        problem=cp.Problem(cp.Maximize(lam), [lam >= 0, *prog.constraints]),
+        lam=lam,
+        model=settings.interface_model,
+        friction=friction,
+        scene=scene,
+        settings=settings,
+        **_shared_fields(data, StaticProblem),
+        **_shared_fields(prog, StaticProblem),
+    )
+
+
+def _shared_fields(part, cls) -> dict:
+    """The attributes of ``part`` that are fields of the dataclass ``cls``, by name."""
+    return {k: v for k, v in vars(part).items() if k in cls.__dataclass_fields__}
+
+
+def _scaled_data(scene: Scene, settings: LimitSettings) -> _ScaledData:
+    """Interfaces, equilibrium matrix, loads and strengths of a scene, with the scales."""
     interfaces = scene.assembly.interfaces()
     interfaces.warn_edge_contacts()
-    m = interfaces.n_interfaces
     free = scene.supports.free_dofs.ravel()
-    a_full = equilibrium_matrix(scene.assembly.centroid, interfaces)
-    a_eq = a_full[free]
+    a_eq = equilibrium_matrix(scene.assembly.centroid, interfaces)[free]
     dead = scene.dead_wrench.ravel()[free]
     live = scene.loads.live_wrench.ravel()[free]
     weight, length, row_scale = _scales(scene, free, interfaces)
     live_norm = float(np.sum(np.abs(live * row_scale)))
     lam_scale = 1.0 / live_norm if live_norm > 0 else 1.0
-    mu_k = interface_friction(interfaces, scene.assembly.mu, settings.mu)
-    c_t = torsion_coefficient(interfaces)
     vi, y = interface_vertices(interfaces)
-    area = interfaces.area
-    f_t = settings.tensile_strength * area  # [N]
-    f_offset = np.zeros(6 * m)
+    f_t = settings.tensile_strength * interfaces.area  # [N]
+    f_offset = np.zeros(6 * interfaces.n_interfaces)
     if settings.interface_model == "vertex":
         # corner forces carry the shifted pressure p + sigma_t: N = f_t - sum p
         f_offset[0::6] = f_t
-
-    s_rows = sp.diags(row_scale)
-    d_dead = row_scale * (dead + a_eq @ f_offset)
-    d_live = row_scale * live * lam_scale
-    lam = cp.Variable(name="lam")
-    cons: list = [lam >= 0]
-    capacity: dict = {}
-    extra: dict = {}
-
-    if settings.interface_model == "vertex":
-        nv = len(vi)
-        b = vertex_force_matrix(interfaces)
-        f_map = b * weight  # x scaled by W
-        a_x = (s_rows @ a_eq @ f_map).tocsc()
-        p = cp.Variable(nv, name="p")
-        s1 = cp.Variable(nv, name="s1")
-        s2 = cp.Variable(nv, name="s2")
-        x_vars = [p, s1, s2]
-        # columns of a_x are interleaved (p, s1, s2) per corner
-        eq = a_x[:, 0::3] @ p + a_x[:, 1::3] @ s1 + a_x[:, 2::3] @ s2 + d_dead + lam * d_live == 0
-        f_map = f_map[
-            :,
-            np.concatenate(
-                [np.arange(0, 3 * nv, 3), np.arange(1, 3 * nv, 3), np.arange(2, 3 * nv, 3)]
-            ),
-        ]
-        finite = np.isfinite(mu_k[vi])
-        sel = _subset(finite)
-        mu_par = cp.Parameter(nv, nonneg=True, name="mu", value=np.where(finite, mu_k[vi], 0.0))
-        # mu p >= |s| implies p >= 0 where mu > 0: a sign row is kept only where it is not
-        # implied (mu = 0 or inf, or fixed capacities, which may vanish). ~20 % fewer cone rows.
-        signed = np.ones(nv, bool) if friction != "coulomb" else (mu_k[vi] <= 0) | ~finite
-        extra["implied_sign"] = ~signed
-        cons.append(eq)
-        if signed.any():
-            cons.append(p[np.flatnonzero(signed)] >= 0)
-        if friction == "coulomb":
-            cap = cp.multiply(mu_par, p)
-        else:
-            cap_par = cp.Parameter(nv, nonneg=True, name="capacity", value=np.zeros(nv))
-            capacity["shear"] = cap_par
-            cap = cap_par
-        if sel is None:
-            pass  # mu = inf everywhere: no friction cone
-        elif settings.friction_polygon is None:
-            cons.append(cp.SOC(sel(cap), cp.vstack([sel(s1), sel(s2)]), axis=0))
-        else:
-            dirs, cosk = _polygon_directions(settings.friction_polygon)
-            for d in dirs:
-                cons.append(sel(d[0] * s1 + d[1] * s2) <= cosk * sel(cap))
-        if settings.compressive_strength is not None:
-            # resultants (scaled by W and W L) of the corner forces
-            bn = b[0::6][:, 0::3]
-            bm1 = b[3::6][:, 0::3] / length
-            bm2 = b[4::6][:, 0::3] / length
-            n_hat = bn @ p
-            _compressive_cone(
-                cons, interfaces, settings, weight, length, -n_hat + f_t / weight, bm1 @ p, bm2 @ p
-            )
-    else:
-        cols = np.concatenate([np.arange(j, 6 * m, 6) for j in range(6)])
-        scale_cols = np.tile(np.repeat([weight, length * weight], 3), m)
-        f_map = sp.diags(scale_cols).tocsr()[:, cols]
-        a_x = (s_rows @ a_eq @ f_map).tocsc()
-        names = ("N", "V1", "V2", "M1", "M2", "M3")
-        fv = [cp.Variable(m, name=nm) for nm in names]
-        x_vars = fv
-        n_, v1, v2, m1, m2, m3 = fv
-        eq = sum(a_x[:, j * m : (j + 1) * m] @ fv[j] for j in range(6)) + d_dead + lam * d_live == 0
-        c_hat = -n_ + f_t / weight
-        finite = np.isfinite(mu_k)
-        mu_par = cp.Parameter(m, nonneg=True, name="mu", value=np.where(finite, mu_k, 0.0))
-        g, h, owner = rocking_constraints(interfaces)
-        g1 = g[:, 3::6]
-        g2 = g[:, 4::6]
-        own = sp.csr_matrix((h / length, (np.arange(len(h)), owner)), shape=(len(h), m))
-        cons += [eq, c_hat >= 0, g1 @ m1 + g2 @ m2 <= own @ c_hat]
-        if settings.friction_polygon is not None:
-            r = cp.Variable(m, name="shear_gauge")
-            dirs, cosk = _polygon_directions(settings.friction_polygon)
-            for d in dirs:
-                cons.append(d[0] * v1 + d[1] * v2 <= cosk * r)
-            x_vars = [*fv, r]
-            f_map = sp.hstack([f_map, sp.csr_matrix((6 * m, m))]).tocsr()
-        else:
-            r = None
-        # friction acts only where mu is finite (mu = inf: no sliding, no torsion slip)
-        sel = _subset(finite) or (lambda e: e[np.zeros(0, dtype=np.int64)])
-        n_f = int(finite.sum())
-        ct_hat = (c_t / length)[finite]
-        c_f, mu_f, v1, v2, m3 = sel(c_hat), sel(mu_par), sel(v1), sel(v2), sel(m3)
-        r = None if r is None else sel(r)
-        shear = cp.vstack([v1, v2])
-        if friction == "coulomb":
-            cap_s = cp.multiply(mu_f, c_f)
-            cap_t = cp.multiply(cp.multiply(ct_hat, mu_f), c_f)
-        else:
-            cap_s_par = cp.Parameter(m, nonneg=True, name="capacity_shear", value=np.zeros(m))
-            cap_t_par = cp.Parameter(m, nonneg=True, name="capacity_torsion", value=np.zeros(m))
-            capacity["shear"], capacity["torsion"] = cap_s_par, cap_t_par
-            cap_s, cap_t = sel(cap_s_par), sel(cap_t_par)
-        if n_f == 0:
-            pass
-        elif settings.torsion == "independent":
-            if r is None:
-                cons.append(cp.SOC(cap_s, shear, axis=0))
-            else:
-                cons.append(r <= cap_s)
-            cons += [m3 <= cap_t, -m3 <= cap_t]
-        else:
-            alpha = settings.torsion_alpha
-            # explicit (not nonneg=True) so that their duals enter the certificate
-            tau1 = cp.Variable(n_f, name="tau_torsion")
-            tau2 = cp.Variable(n_f, name="tau_shear")
-            cons += [tau1 >= 0, tau2 >= 0]
-            x_vars = [*x_vars, tau1, tau2]
-            f_map = sp.hstack([f_map, sp.csr_matrix((6 * m, 2 * n_f))]).tocsr()
-            rr = cp.norm(shear, 2, axis=0) if r is None else r
-            if friction == "coulomb":
-                # |M3| <= (cT mu tau1)^(1/alpha) (cT mu c)^(1 - 1/alpha); |V|^2 <= mu^2 tau2 c
-                k_t = cp.multiply(ct_hat, mu_f)
-                cons.append(cp.PowCone3D(cp.multiply(k_t, tau1), cap_t, m3, 1.0 / alpha))
-                u, w = cp.multiply(mu_f, tau2), cap_s
-                cons.append(tau1 + tau2 <= c_f)
-            else:
-                # normalised: tau1 + tau2 <= 1, |M3| <= cap_t tau1^(1/alpha), |V|^2 <= cap_s^2 tau2
-                cons.append(cp.PowCone3D(cp.multiply(cap_t, tau1), cap_t, m3, 1.0 / alpha))
-                u, w = cp.multiply(cap_s, tau2), cap_s
-                cons.append(tau1 + tau2 <= 1)
-            if r is None:
-                cons.append(cp.SOC(u + w, cp.vstack([2 * v1, 2 * v2, u - w]), axis=0))
-            else:
-                cons.append(cp.SOC(u + w, cp.vstack([2 * rr, u - w]), axis=0))
-        if settings.torsion_bending:
-            if friction != "coulomb":
-                raise ValueError("torsion_bending is available for the associated problem only")
-            _bending_torsion(cons, interfaces, length, c_hat, m1, m2, fv[5], mu_par, finite)
-        if settings.compressive_strength is not None:
-            _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1, m2)
-
-    problem = cp.Problem(cp.Maximize(lam), cons)
-    return StaticProblem(
-        problem=problem,
-        lam=lam,
-        equilibrium=eq,
-        mu=mu_par,
-        capacity=capacity,
-        model=settings.interface_model,
-        friction=friction,
-        scene=scene,
-        settings=settings,
+    return _ScaledData(
+        interfaces=interfaces,
         free=free,
         a_eq=a_eq,
-        f_map=sp.csr_matrix(f_map),
-        f_offset=f_offset,
-        x_vars=x_vars,
         dead=dead,
         live=live,
         weight=weight,
         length=length,
-        lam_scale=lam_scale,
         row_scale=row_scale,
-        interfaces=interfaces,
+        lam_scale=lam_scale,
+        mu_interface=interface_friction(interfaces, scene.assembly.mu, settings.mu),
+        c_t=torsion_coefficient(interfaces),
         vertex_iface=vi,
         vertex_local=y,
-        mu_interface=mu_k,
-        c_t=c_t,
-        extra=extra,
+        f_t=f_t,
+        f_offset=f_offset,
+        s_rows=sp.diags(row_scale),
+        d_dead=row_scale * (dead + a_eq @ f_offset),
+        d_live=row_scale * live * lam_scale,
     )
+
+
+def _vertex_programme(data: _ScaledData, settings, friction: str, lam) -> _Programme:
+    """Corner forces ``(p, s1, s2)`` scaled by W: equilibrium, ``p >= 0`` where no cone
+    implies it, the friction cone (or inscribed polygon) and the compressive strength."""
+    vi, mu_k = data.vertex_iface, data.mu_interface
+    nv = len(vi)
+    b = vertex_force_matrix(data.interfaces)
+    f_map = b * data.weight  # x scaled by W
+    a_x = (data.s_rows @ data.a_eq @ f_map).tocsc()
+    p = cp.Variable(nv, name="p")
+    s1 = cp.Variable(nv, name="s1")
+    s2 = cp.Variable(nv, name="s2")
+    # columns of a_x are interleaved (p, s1, s2) per corner
+    eq = (
+        a_x[:, 0::3] @ p + a_x[:, 1::3] @ s1 + a_x[:, 2::3] @ s2 + data.d_dead + lam * data.d_live
+        == 0
+    )
+    order = np.concatenate(
+        [np.arange(0, 3 * nv, 3), np.arange(1, 3 * nv, 3), np.arange(2, 3 * nv, 3)]
+    )
+    finite = np.isfinite(mu_k[vi])
+    mu_par = cp.Parameter(nv, nonneg=True, name="mu", value=np.where(finite, mu_k[vi], 0.0))
+    # mu p >= |s| implies p >= 0 where mu > 0: a sign row is kept only where it is not
+    # implied (mu = 0 or inf, or fixed capacities, which may vanish)
+    signed = np.ones(nv, bool) if friction != "coulomb" else (mu_k[vi] <= 0) | ~finite
+    prog = _Programme(eq, [eq], [p, s1, s2], f_map[:, order], mu_par)
+    prog.extra["implied_sign"] = ~signed
+    cons = prog.constraints
+    if signed.any():
+        cons.append(p[np.flatnonzero(signed)] >= 0)
+    if friction == "coulomb":
+        cap = cp.multiply(mu_par, p)
+    else:
+        cap = prog.capacity["shear"] = cp.Parameter(
+            nv, nonneg=True, name="capacity", value=np.zeros(nv)
+        )
+    sel = _subset(finite)
+    if sel is None:
+        pass  # mu = inf everywhere: no friction cone
+    elif settings.friction_polygon is None:
+        cons.append(cp.SOC(sel(cap), cp.vstack([sel(s1), sel(s2)]), axis=0))
+    else:
+        dirs, cosk = _polygon_directions(settings.friction_polygon)
+        for d in dirs:
+            cons.append(sel(d[0] * s1 + d[1] * s2) <= cosk * sel(cap))
+    if settings.compressive_strength is not None:
+        # resultants (scaled by W and W L) of the corner forces
+        length, weight = data.length, data.weight
+        n_hat = b[0::6][:, 0::3] @ p
+        m1_hat = (b[3::6][:, 0::3] / length) @ p
+        m2_hat = (b[4::6][:, 0::3] / length) @ p
+        c_hat = -n_hat + data.f_t / weight
+        _compressive_cone(cons, data.interfaces, settings, weight, length, c_hat, m1_hat, m2_hat)
+    return prog
+
+
+def _resultant_programme(data: _ScaledData, settings, friction: str, lam) -> _Programme:
+    """Resultants ``(N, V1, V2, M1, M2, M3)`` scaled by W and W L: equilibrium, no tension
+    beyond ``f_t``, the centre of pressure inside the polygon, then friction and torsion
+    (:func:`_resultant_friction`), torsion with bending and compressive strength."""
+    m, weight, length = data.interfaces.n_interfaces, data.weight, data.length
+    cols = np.concatenate([np.arange(j, 6 * m, 6) for j in range(6)])
+    scale_cols = np.tile(np.repeat([weight, length * weight], 3), m)
+    f_map = sp.diags(scale_cols).tocsr()[:, cols]
+    a_x = (data.s_rows @ data.a_eq @ f_map).tocsc()
+    fv = [cp.Variable(m, name=nm) for nm in ("N", "V1", "V2", "M1", "M2", "M3")]
+    n_, v1, v2, m1, m2, _ = fv
+    eq = (
+        sum(a_x[:, j * m : (j + 1) * m] @ fv[j] for j in range(6)) + data.d_dead + lam * data.d_live
+        == 0
+    )
+    c_hat = -n_ + data.f_t / weight
+    finite = np.isfinite(data.mu_interface)
+    mu_par = cp.Parameter(m, nonneg=True, name="mu", value=np.where(finite, data.mu_interface, 0.0))
+    g, h, owner = rocking_constraints(data.interfaces)
+    own = sp.csr_matrix((h / length, (np.arange(len(h)), owner)), shape=(len(h), m))
+    rocking = g[:, 3::6] @ m1 + g[:, 4::6] @ m2 <= own @ c_hat
+    prog = _Programme(eq, [eq, c_hat >= 0, rocking], list(fv), f_map, mu_par)
+    r = None
+    if settings.friction_polygon is not None:
+        r = cp.Variable(m, name="shear_gauge")
+        dirs, cosk = _polygon_directions(settings.friction_polygon)
+        prog.constraints += [d[0] * v1 + d[1] * v2 <= cosk * r for d in dirs]
+        prog.x_vars.append(r)
+        prog.f_map = sp.hstack([prog.f_map, sp.csr_matrix((6 * m, m))]).tocsr()
+    _resultant_friction(prog, data, settings, friction, fv, r, c_hat, finite)
+    if settings.torsion_bending:
+        if friction != "coulomb":
+            raise ValueError("torsion_bending is available for the associated problem only")
+        _bending_torsion(
+            prog.constraints, data.interfaces, length, c_hat, m1, m2, fv[5], mu_par, finite
+        )
+    if settings.compressive_strength is not None:
+        _compressive_cone(
+            prog.constraints, data.interfaces, settings, weight, length, c_hat, m1, m2
+        )
+    return prog
+
+
+def _resultant_friction(prog, data, settings, friction, fv, r, c_hat, finite) -> None:
+    """Friction and torsion of the resultant model on the interfaces with finite mu (mu = inf:
+    no sliding, no torsion slip): the Coulomb circle (or polygon gauge ``r``) and
+    ``|M3| <= c_T mu c`` (``torsion="independent"``), or the exact torsion-shear interaction
+    of seed 001 Eq. 14 as one power cone and one rotated second-order cone."""
+    m = data.interfaces.n_interfaces
+    sel = _subset(finite) or (lambda e: e[np.zeros(0, dtype=np.int64)])
+    n_f = int(finite.sum())
+    ct_hat = (data.c_t / data.length)[finite]
+    c_f, mu_f = sel(c_hat), sel(prog.mu)
+    v1, v2, m3 = sel(fv[1]), sel(fv[2]), sel(fv[5])
+    r = None if r is None else sel(r)
+    shear = cp.vstack([v1, v2])
+    if friction == "coulomb":
+        cap_s = cp.multiply(mu_f, c_f)
+        cap_t = cp.multiply(cp.multiply(ct_hat, mu_f), c_f)
+    else:
+        cap_s_par = cp.Parameter(m, nonneg=True, name="capacity_shear", value=np.zeros(m))
+        cap_t_par = cp.Parameter(m, nonneg=True, name="capacity_torsion", value=np.zeros(m))
+        prog.capacity["shear"], prog.capacity["torsion"] = cap_s_par, cap_t_par
+        cap_s, cap_t = sel(cap_s_par), sel(cap_t_par)
+    cons = prog.constraints
+    if n_f == 0:
+        return
+    if settings.torsion == "independent":
+        cons.append(cp.SOC(cap_s, shear, axis=0) if r is None else r <= cap_s)
+        cons += [m3 <= cap_t, -m3 <= cap_t]
+        return
+    alpha = settings.torsion_alpha
+    # explicit (not nonneg=True) so that their duals enter the certificate
+    tau1 = cp.Variable(n_f, name="tau_torsion")
+    tau2 = cp.Variable(n_f, name="tau_shear")
+    cons += [tau1 >= 0, tau2 >= 0]
+    prog.x_vars += [tau1, tau2]
+    prog.f_map = sp.hstack([prog.f_map, sp.csr_matrix((6 * m, 2 * n_f))]).tocsr()
+    if friction == "coulomb":
+        # |M3| <= (cT mu tau1)^(1/alpha) (cT mu c)^(1 - 1/alpha); |V|^2 <= mu^2 tau2 c
+        k_t = cp.multiply(ct_hat, mu_f)
+        cons.append(cp.PowCone3D(cp.multiply(k_t, tau1), cap_t, m3, 1.0 / alpha))
+        u, w = cp.multiply(mu_f, tau2), cap_s
+        cons.append(tau1 + tau2 <= c_f)
+    else:
+        # normalised: tau1 + tau2 <= 1, |M3| <= cap_t tau1^(1/alpha), |V|^2 <= cap_s^2 tau2
+        cons.append(cp.PowCone3D(cp.multiply(cap_t, tau1), cap_t, m3, 1.0 / alpha))
+        u, w = cp.multiply(cap_s, tau2), cap_s
+        cons.append(tau1 + tau2 <= 1)
+    if r is None:
+        cons.append(cp.SOC(u + w, cp.vstack([2 * v1, 2 * v2, u - w]), axis=0))
+    else:
+        cons.append(cp.SOC(u + w, cp.vstack([2 * r, u - w]), axis=0))
 
 
 def _rectangle_ct(l1: np.ndarray, l2: np.ndarray) -> np.ndarray:

@@ -21,6 +21,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from dem.estimate import Estimate
 from dem.scene import Scene
 from limit.deadload import StandsResult, stands
 from limit.errors import NumericalFailureError
@@ -61,6 +62,14 @@ class GeometricSafetyResult:
     falling: StandsResult
     history: list = field(default_factory=list)
     wall_s: float = 0.0
+
+    @property
+    def critical_estimate(self) -> Estimate:
+        """``critical`` with the half-width of the certified bracket (source
+        ``"bisection"``): the critical value of this scene family lies between the last
+        value proven to fall and the last proven to stand."""
+        half = 0.5 * abs(self.bracket[1] - self.bracket[0])
+        return Estimate(self.critical, {"bisection": half}, notes="certified bisection bracket")
 
 
 def _check(build: Callable[[float], Scene], t: float, settings: LimitSettings) -> StandsResult:

@@ -24,10 +24,13 @@ and a dead load on one a :class:`~limit.errors.DeadLoadInfeasibleError`.
 
 from __future__ import annotations
 
+import logging
+import math
 import time
 
 import numpy as np
 
+from dem.estimate import ErrorBudget, Estimate, check_error_budget
 from dem.scene import Scene
 from limit.clarabel import (
     ACCEPTED,
@@ -46,6 +49,7 @@ from limit.errors import (
     NoMechanismError,
     NumericalFailureError,
 )
+from limit.lambda_error import outer_polygon_factor
 from limit.matrices import (
     equilibrium_matrix,
     interface_friction,
@@ -54,6 +58,7 @@ from limit.matrices import (
 )
 from limit.problems import (
     LimitSettings,
+    StaticProblem,
     build_kinematic_problem,
     build_static_problem,
     checked_inputs,
@@ -68,6 +73,8 @@ __all__ = [
     "limit_analysis",
     "solve_static",
 ]
+
+logger = logging.getLogger(__name__)
 
 KINEMATIC_OUTCOMES = {
     # by conic duality the kinematic programme is unbounded where the static one is infeasible
@@ -98,7 +105,10 @@ def check_scene(scene: Scene) -> None:
 
 
 def limit_analysis(
-    scene: Scene, settings: LimitSettings | None = None, certify: bool = True
+    scene: Scene,
+    settings: LimitSettings | None = None,
+    certify: bool = True,
+    error: ErrorBudget = "cheap",
 ) -> LimitResult:
     """Associated static limit analysis of a scene (build, solve, certify).
 
@@ -107,12 +117,19 @@ def limit_analysis(
     scene : Scene
     settings : LimitSettings, optional
     certify : bool
+    error : {"none", "cheap", "full"}
+        What to spend on ``lambda_estimate`` (:mod:`limit.lambda_error`). ``"none"``: an
+        unknown error. ``"cheap"``: the solver's error from the certificate, which costs
+        nothing more, and with a ``friction_polygon`` its bracket by the outer polygon (one
+        more solve of the compiled programme; a bound, loose where the load points at a
+        polygon corner). ``"full"``: the same, but the polygon's error measured against the
+        exact cones (one more programme compiled and solved).
 
     Returns
     -------
     LimitResult
         ``lam`` is the associated collapse multiplier of the chosen interface model: an upper
-        bound for non-associated (zero-dilatancy) friction.
+        bound for non-associated (zero-dilatancy) friction. ``lambda_estimate`` its error bar.
 
     Raises
     ------
@@ -128,6 +145,7 @@ def limit_analysis(
         No certified optimum after the retries of :func:`limit.clarabel.solve_static`.
     """
     settings = checked_inputs(scene, settings)
+    check_error_budget(error)
     check_scene(scene)
     t0 = time.perf_counter()
     sp_ = build_static_problem(scene, settings)
@@ -137,7 +155,50 @@ def limit_analysis(
     except DeadLoadInfeasibleError as exc:
         raise dead_load_error(scene, settings, str(exc)) from exc
     require_standing(scene, settings)
+    if error == "none":
+        result.lambda_estimate = Estimate.unknown(result.lam, "error budget 'none'")
+    elif settings.friction_polygon is not None and error == "cheap":
+        result.lambda_estimate = polygon_bracket(sp_, result)
+    elif settings.friction_polygon is not None:
+        result.lambda_estimate = polygon_error(scene, settings, result)
     return result
+
+
+def polygon_error(scene: Scene, settings: LimitSettings, result: LimitResult) -> Estimate:
+    """``result.lambda_estimate`` with the ``"friction polygon"`` source measured: the
+    distance to the optimum with the exact cones, plus that solve's own solver error."""
+    t0 = time.perf_counter()
+    try:
+        exact = solve_static(build_static_problem(scene, settings.with_(friction_polygon=None)))
+        width = abs(exact.lam - result.lam) + exact.lambda_estimate.error
+    except LimitAnalysisError as exc:
+        logger.info("exact-cone programme failed: %s", exc)
+        width = math.inf
+    return result.lambda_estimate.with_source(
+        "friction polygon", width, cost_s=time.perf_counter() - t0
+    )
+
+
+def polygon_bracket(sp_: StaticProblem, result: LimitResult) -> Estimate:
+    """``result.lambda_estimate`` with the ``"friction polygon"`` source: the width of
+    ``[lambda, lambda_out]``, where ``lambda_out`` is the optimum of the programme with every
+    friction coefficient divided by ``cos(pi / k)``, whose polygons contain the exact cones
+    (:mod:`limit.lambda_error`), plus that solve's own solver error. The compiled programme
+    ``sp_`` is re-solved with the larger coefficients and restored."""
+    t0 = time.perf_counter()
+    mu = sp_.mu_interface
+    sp_.set_friction(mu * outer_polygon_factor(sp_.settings.friction_polygon))
+    try:
+        outer = solve_static(sp_)
+        width = max(outer.lam - result.lam, 0.0) + outer.lambda_estimate.error
+    except LimitAnalysisError as exc:
+        logger.info("outer friction polygon failed: %s", exc)
+        width = math.inf
+    finally:
+        sp_.set_friction(mu)
+    return result.lambda_estimate.with_source(
+        "friction polygon", width, cost_s=time.perf_counter() - t0
+    )
 
 
 def kinematic_analysis(scene: Scene, settings: LimitSettings | None = None) -> tuple:

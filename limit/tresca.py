@@ -32,6 +32,7 @@ stress, which the paper shows is admissible but which its solver did not find.
 from __future__ import annotations
 
 import logging
+import math
 import time
 import warnings
 from dataclasses import dataclass
@@ -40,6 +41,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
+from dem.estimate import Estimate
 from limit.errors import (
     DeadLoadInfeasibleError,
     LimitAnalysisError,
@@ -352,58 +354,54 @@ def solve_tresca(
         raise ValueError("packing has no internal edges")
     traction = _check_traction(packing, traction)
     s_e = _check_s(packing, s)
-    load = cell_loads(packing, traction)
-    scale = float(np.max(np.linalg.norm(load, axis=1), initial=0.0))
-    if scale == 0.0:
-        raise ValueError("boundary traction is zero: nothing to compute")
-    resultant = np.linalg.norm(load.sum(axis=0))
-    if resultant > 1e-9 * np.abs(load).sum():
-        raise ValueError(
-            f"boundary traction resultant must vanish (Neumann data), got |R| = {resultant:.3e} N/m"
-        )
-
+    load, scale = _balanced_load(packing, traction)
     start = time.perf_counter()
-    n_c, n_e = packing.n_cells, packing.n_edges
-    A = equilibrium_matrix(packing)
-    # constraint rows are the transposed equilibrium blocks: [u]_e . n_e and [u]_e . t_e
-    B_n = sp.csr_matrix(A[:, :n_e].T)
-    B_t = sp.csr_matrix(A[:, n_e:].T)
-    S = sp.csr_matrix(np.kron(np.ones((1, n_c)), np.eye(2)))
-    x = cp.Variable(2 * n_c)
-    tau = cp.Variable(n_e)
-    weight = s_e * packing.edge_length
-    objective = cp.Minimize(weight @ tau - load.ravel() @ x)
-    c_normal = B_n @ x >= 0
-    c_plus = tau - B_t @ x >= 0
-    c_minus = tau + B_t @ x >= 0
-    problem = cp.Problem(objective, [c_normal, c_plus, c_minus, S @ x == 0])
-    problem.solve(solver=settings.solver)
+    lp = _TrescaLP(packing, load, s_e)
+    lp.problem.solve(solver=settings.solver)
     inaccurate = _accept(
-        problem,
+        lp.problem,
         "Tresca LP (seed 003 Eq. 16)",
         "An unbounded LP means no force set balances the load with compression and "
         "|f_t| <= s|e| (tensile load, or shear above the Tresca threshold).",
         unbounded=DeadLoadInfeasibleError,
     )
-    u = np.asarray(x.value)
-    slip = np.asarray(tau.value)
-    lam = np.asarray(c_normal.dual_value, dtype=np.float64)
-    f_t = np.asarray(c_minus.dual_value, dtype=np.float64) - np.asarray(c_plus.dual_value)
-
+    lam, f_t = lp.forces()
     if settings.selection == "min_energy":
         lam, f_t, qp_inaccurate = _min_energy_forces(packing, load, s_e, settings)
         inaccurate = inaccurate or qp_inaccurate
-
-    jn, jt = B_n @ u, B_t @ u
-    primal_residual = float(
-        max(np.max(-jn, initial=0.0), np.max(np.abs(jt) - slip, initial=0.0), np.max(np.abs(S @ u)))
-    )
-    primal_objective = float(weight @ slip - load.ravel() @ u)
+    u, slip = np.asarray(lp.x.value), np.asarray(lp.tau.value)
+    primal_objective = float(lp.weight @ slip - load.ravel() @ u)
     eq_res, fr_res = admissibility_residuals(packing, traction, s_e, lam, f_t)
-    length_scale = float(np.sqrt(np.sum(packing.cell_area)))
     gap = primal_objective - 0.0
     wall = time.perf_counter() - start
+    _accept_certificate(packing, settings, scale, eq_res, fr_res, gap, wall)
+    return TrescaResult(
+        displacement=u.reshape(packing.n_cells, 2),
+        slip=slip,
+        normal_force=lam,
+        tangential_force=f_t,
+        normal_stress=-lam / packing.edge_length,
+        shear_stress=f_t / packing.edge_length,
+        cell_load=load,
+        status=lp.problem.status,
+        is_inaccurate=inaccurate,
+        solver=settings.solver,
+        selection=settings.selection,
+        primal_objective=primal_objective,
+        duality_gap=gap,
+        primal_residual=lp.primal_residual(),
+        equilibrium_residual=eq_res,
+        friction_residual=fr_res,
+        wall_s=wall,
+    )
+
+
+def _accept_certificate(packing, settings, scale, eq_res, fr_res, gap, wall) -> None:
+    """Raise ``NumericalFailureError`` unless the equilibrium and friction residuals [-] are
+    at most ``feas_tol`` and the duality gap [J/m] at most ``feas_tol`` x load ``scale``
+    [N/m] x the packing's length scale [m]; log the accepted solve."""
     tol = settings.feas_tol
+    length_scale = float(np.sqrt(np.sum(packing.cell_area)))
     if eq_res > tol or fr_res > tol or abs(gap) > tol * scale * length_scale:
         raise NumericalFailureError(
             f"Tresca solution fails its certificate: equilibrium {eq_res:.2e}, friction "
@@ -413,31 +411,70 @@ def solve_tresca(
         "Tresca %s/%s: %d cells, %d edges, eq %.1e, gap %.1e, %.3f s",
         settings.solver,
         settings.selection,
-        n_c,
-        n_e,
+        packing.n_cells,
+        packing.n_edges,
         eq_res,
         gap,
         wall,
     )
-    return TrescaResult(
-        displacement=u.reshape(n_c, 2),
-        slip=slip,
-        normal_force=lam,
-        tangential_force=f_t,
-        normal_stress=-lam / packing.edge_length,
-        shear_stress=f_t / packing.edge_length,
-        cell_load=load,
-        status=problem.status,
-        is_inaccurate=inaccurate,
-        solver=settings.solver,
-        selection=settings.selection,
-        primal_objective=primal_objective,
-        duality_gap=gap,
-        primal_residual=primal_residual,
-        equilibrium_residual=eq_res,
-        friction_residual=fr_res,
-        wall_s=wall,
-    )
+
+
+def _balanced_load(packing: Packing, traction: np.ndarray) -> tuple[np.ndarray, float]:
+    """Cell loads (n_cells, 2) [N/m] of a boundary traction and the largest of them; raises
+    ``ValueError`` for a zero traction or one whose resultant does not vanish."""
+    load = cell_loads(packing, traction)
+    scale = float(np.max(np.linalg.norm(load, axis=1), initial=0.0))
+    if scale == 0.0:
+        raise ValueError("boundary traction is zero: nothing to compute")
+    resultant = np.linalg.norm(load.sum(axis=0))
+    if resultant > 1e-9 * np.abs(load).sum():
+        raise ValueError(
+            f"boundary traction resultant must vanish (Neumann data), got |R| = {resultant:.3e} N/m"
+        )
+    return load, scale
+
+
+class _TrescaLP:
+    """The LP of seed 003 Eq. (16) in the cell translations ``x`` (2 n_cells,) and edge slacks
+    ``tau`` (n_edges,); its constraint rows are the transposed equilibrium blocks
+    ``[u]_e . n_e`` (``B_n``) and ``[u]_e . t_e`` (``B_t``), and ``S`` sums the translations."""
+
+    def __init__(self, packing: Packing, load: np.ndarray, s_e: np.ndarray):
+        n_c, n_e = packing.n_cells, packing.n_edges
+        A = equilibrium_matrix(packing)
+        self.B_n = sp.csr_matrix(A[:, :n_e].T)
+        self.B_t = sp.csr_matrix(A[:, n_e:].T)
+        self.S = sp.csr_matrix(np.kron(np.ones((1, n_c)), np.eye(2)))
+        self.x = cp.Variable(2 * n_c)
+        self.tau = cp.Variable(n_e)
+        self.weight = s_e * packing.edge_length
+        objective = cp.Minimize(self.weight @ self.tau - load.ravel() @ self.x)
+        self.c_normal = self.B_n @ self.x >= 0
+        self.c_plus = self.tau - self.B_t @ self.x >= 0
+        self.c_minus = self.tau + self.B_t @ self.x >= 0
+        self.problem = cp.Problem(
+            objective, [self.c_normal, self.c_plus, self.c_minus, self.S @ self.x == 0]
+        )
+
+    def forces(self) -> tuple[np.ndarray, np.ndarray]:
+        """Normal and tangential edge forces [N/m] from the solver's duals."""
+        lam = np.asarray(self.c_normal.dual_value, dtype=np.float64)
+        f_t = np.asarray(self.c_minus.dual_value, dtype=np.float64) - np.asarray(
+            self.c_plus.dual_value
+        )
+        return lam, f_t
+
+    def primal_residual(self) -> float:
+        """Largest violation of the primal constraints at the solution."""
+        u, slip = np.asarray(self.x.value), np.asarray(self.tau.value)
+        jn, jt = self.B_n @ u, self.B_t @ u
+        return float(
+            max(
+                np.max(-jn, initial=0.0),
+                np.max(np.abs(jt) - slip, initial=0.0),
+                np.max(np.abs(self.S @ u)),
+            )
+        )
 
 
 def _min_energy_forces(
@@ -539,6 +576,10 @@ class TrescaMultiplierResult:
         ``(attempt, status)`` of every solve, in order.
     wall_s : float
         [s].
+    feasibility_shift : float
+        How far the optimum may lie from ``load_multiplier`` because the returned forces
+        violate their rows (balance, compression, Tresca) [-]: each violation times its dual,
+        the first-order sensitivity of the optimum (as in :mod:`limit.certificates`).
     """
 
     load_multiplier: float
@@ -553,6 +594,23 @@ class TrescaMultiplierResult:
     dual_residual: float
     attempts: tuple
     wall_s: float
+    feasibility_shift: float = float("nan")
+
+    @property
+    def load_multiplier_estimate(self) -> Estimate:
+        """``load_multiplier`` with its error bar (the half-width of an interval that holds
+        the programme's optimum): source ``"duality gap"``, the distance to the kinematic
+        multiplier of the duals' mechanism, an upper bound of the optimum;
+        ``"feasibility"``, :attr:`feasibility_shift`; ``"round-off"``, 16 ulps of the
+        multiplier (a simplex vertex is exact up to the rounding of its scaling)."""
+        gap = abs(self.upper_bound - self.load_multiplier)
+        shift = self.feasibility_shift if math.isfinite(self.feasibility_shift) else math.inf
+        ulps = 16 * float(np.spacing(max(abs(self.load_multiplier), abs(self.upper_bound))))
+        return Estimate(
+            self.load_multiplier,
+            {"duality gap": gap, "feasibility": shift, "round-off": ulps},
+            notes="solver error of the programme's optimum (duality gap, primal violations)",
+        )
 
 
 def max_load_multiplier(
@@ -596,11 +654,11 @@ def max_load_multiplier(
 
     Notes
     -----
-    The programme is solved in scaled units, whatever the units of the data: forces divided
-    by the largest cell load :math:`F = \\max(\\max_c|F_{dead,c}|, \\max_c|F_{live,c}|)` and
-    :math:`\\alpha` by :math:`F / \\max_c|F_{live,c}|`. (Its only data are forces per unit
-    length, so no length scale enters.) Unscaled, Clarabel stopped at 1 % of the optimum
-    with loads of 1e5 Pa.
+    The programme is solved in scaled units, whatever the units of the data, so that the
+    solver's absolute tolerances are relative to the loads: forces divided by the largest cell
+    load :math:`F = \\max(\\max_c|F_{dead,c}|, \\max_c|F_{live,c}|)` and :math:`\\alpha` by
+    :math:`F / \\max_c|F_{live,c}|`. (Its only data are forces per unit length, so no length
+    scale enters.)
 
     The multipliers :math:`v` of the equilibrium rows, normalised to unit live power
     :math:`F_{live}\\cdot v = 1`, are cell velocities of the Lagrange dual
@@ -614,98 +672,38 @@ def max_load_multiplier(
     """
     settings = settings or TrescaSettings()
     s_e = _check_s(packing, s)
-    dead = cell_loads(packing, dead_traction)
-    live = cell_loads(packing, live_traction)
-    for name, load in (("dead traction", dead), ("live traction", live)):
-        if np.linalg.norm(load.sum(axis=0)) > 1e-9 * max(np.abs(load).sum(), 1e-300):
-            raise ValueError(f"{name} resultant must vanish")
-    live_max = float(np.max(np.linalg.norm(live, axis=1), initial=0.0))
-    if live_max == 0.0:
-        raise ValueError("live traction is zero: no load multiplier to compute")
-    force_scale = max(float(np.max(np.linalg.norm(dead, axis=1), initial=0.0)), live_max)
-    alpha_unit = force_scale / live_max
     start = time.perf_counter()
-    n_e = packing.n_edges
-    # the last cell's balance follows from the others (zero resultants): its velocity is the
-    # reference, zero, in the dual
-    keep = slice(0, 2 * packing.n_cells - 2)
-    A = equilibrium_matrix(packing)[keep]
-    d_hat = dead.ravel()[keep] / force_scale
-    l_hat = live.ravel()[keep] / live_max
-    cap_hat = s_e * packing.edge_length / force_scale
-    lam = cp.Variable(n_e)
-    f_t = cp.Variable(n_e)
-    alpha = cp.Variable()
+    prog = _MultiplierProgramme(packing, dead_traction, live_traction, s_e)
+    return _certified_multiplier(prog, packing, dead_traction, live_traction, s_e, settings, start)
 
-    def admissible(multiplier):
-        balance = A @ cp.hstack([lam, f_t]) + d_hat + multiplier * l_hat == 0
-        return [balance, lam >= 0, cp.abs(f_t) <= cap_hat]
 
-    constraints = admissible(alpha)
-    problem = cp.Problem(cp.Maximize(alpha), constraints)
+def _certified_multiplier(prog, packing, dead_traction, live_traction, s_e, settings, start):
+    """Solve the multiplier programme (Clarabel: again with tighter tolerances if the first
+    solve is inaccurate or fails its certificate) and return the first certified point;
+    ``wall_s`` counts from ``start`` [s]."""
     attempts = [("default", {})]
     if settings.solver == "CLARABEL":
         attempts.append(("tightened", _CLARABEL_TIGHT))
     history: list[tuple[str, str]] = []
     failure = ""
     for i, (label, options) in enumerate(attempts):
-        last = i == len(attempts) - 1
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message="Solution may be inaccurate")
-            problem.solve(solver=settings.solver, **options)
-        history.append((label, problem.status))
-        if problem.status == cp.OPTIMAL_INACCURATE and not last:
-            failure = f"solver status {problem.status}"
+            prog.problem.solve(solver=settings.solver, **options)
+        status = prog.problem.status
+        history.append((label, status))
+        if status == cp.OPTIMAL_INACCURATE and i < len(attempts) - 1:
+            failure = f"solver status {status}"
             continue
-        if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
-            _raise_multiplier_status(problem, admissible, settings.solver)
-        a_star = float(alpha.value) * alpha_unit
-        if a_star < 0:
-            raise DeadLoadInfeasibleError(
-                f"Tresca load multiplier: the dead load alone is not carried (only the live "
-                f"load reversed, times {-a_star:.6g}, would balance it): no load multiplier "
-                "exists"
-            )
-        lam_si = np.asarray(lam.value) * force_scale
-        f_t_si = np.asarray(f_t.value) * force_scale
-        traction = np.asarray(dead_traction) + a_star * np.asarray(live_traction)
-        eq, fr = admissibility_residuals(packing, traction, s_e, lam_si, f_t_si)
-        y = np.asarray(constraints[0].dual_value, dtype=np.float64)
-        upper, dual_res = _mechanism_bound(y, A, d_hat, l_hat, cap_hat)
-        upper *= alpha_unit
+        if status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
+            _raise_multiplier_status(prog.problem, prog.admissible, settings.solver)
         tol = settings.feas_tol
-        gap = abs(upper - a_star) / max(abs(a_star), abs(upper), tol * alpha_unit)
-        checks = {
-            "equilibrium": eq,
-            "friction": fr,
-            "duality gap": gap,
-            "mechanism interpenetration": dual_res,
-        }
+        point = _multiplier_point(prog, packing, dead_traction, live_traction, s_e, tol)
+        checks = {name: point[key] for name, key in _CERTIFICATE.items()}
         if all(value <= tol for value in checks.values()):  # False for NaN
-            inaccurate = problem.status == cp.OPTIMAL_INACCURATE
-            if inaccurate:
-                warnings.warn(
-                    "Tresca load multiplier: solver returned 'optimal_inaccurate'; the point "
-                    "passed its certificate",
-                    RuntimeWarning,
-                    stacklevel=2,
-                )
-            return TrescaMultiplierResult(
-                load_multiplier=a_star,
-                upper_bound=upper,
-                normal_force=lam_si,
-                tangential_force=f_t_si,
-                status=problem.status,
-                is_inaccurate=inaccurate,
-                equilibrium_residual=eq,
-                friction_residual=fr,
-                duality_gap=gap,
-                dual_residual=dual_res,
-                attempts=tuple(history),
-                wall_s=time.perf_counter() - start,
-            )
+            return _multiplier_result(point, status, tuple(history), start)
         failure = (
-            f"alpha = {a_star:.9g}, dual bound {upper:.9g}; "
+            f"alpha = {point['load_multiplier']:.9g}, dual bound {point['upper_bound']:.9g}; "
             + ", ".join(f"{k} {val:.2e}" for k, val in checks.items())
             + f" (tolerance {tol:.1e})"
         )
@@ -715,6 +713,115 @@ def max_load_multiplier(
         f"Tresca load multiplier: no certified optimum after {len(history)} solves ({text}); "
         f"last: {failure}"
     )
+
+
+class _MultiplierProgramme:
+    """The scaled multiplier programme of :func:`max_load_multiplier` (see its notes).
+
+    ``A`` holds the balance rows of every cell but the last (whose balance follows from the
+    zero resultants: its velocity is the reference, zero, in the dual); ``d_hat``, ``l_hat``
+    and ``cap_hat`` are the dead load, live load and Tresca capacities in scaled units; the
+    unknowns are the normal and tangential edge forces ``lam``, ``f_t`` and ``alpha``.
+    Raises ``ValueError`` for a traction with a non-zero resultant or a zero live traction.
+    """
+
+    def __init__(self, packing: Packing, dead_traction, live_traction, s_e: np.ndarray):
+        dead = cell_loads(packing, dead_traction)
+        live = cell_loads(packing, live_traction)
+        for name, load in (("dead traction", dead), ("live traction", live)):
+            if np.linalg.norm(load.sum(axis=0)) > 1e-9 * max(np.abs(load).sum(), 1e-300):
+                raise ValueError(f"{name} resultant must vanish")
+        live_max = float(np.max(np.linalg.norm(live, axis=1), initial=0.0))
+        if live_max == 0.0:
+            raise ValueError("live traction is zero: no load multiplier to compute")
+        self.force_scale = max(float(np.max(np.linalg.norm(dead, axis=1), initial=0.0)), live_max)
+        self.alpha_unit = self.force_scale / live_max
+        keep = slice(0, 2 * packing.n_cells - 2)
+        self.A = equilibrium_matrix(packing)[keep]
+        self.d_hat = dead.ravel()[keep] / self.force_scale
+        self.l_hat = live.ravel()[keep] / live_max
+        self.cap_hat = s_e * packing.edge_length / self.force_scale
+        self.lam = cp.Variable(packing.n_edges)
+        self.f_t = cp.Variable(packing.n_edges)
+        self.alpha = cp.Variable()
+        self.constraints = self.admissible(self.alpha)
+        self.problem = cp.Problem(cp.Maximize(self.alpha), self.constraints)
+
+    def admissible(self, multiplier) -> list:
+        """Balance (first), non-interpenetration and Tresca rows at ``multiplier``."""
+        balance = self.A @ cp.hstack([self.lam, self.f_t]) + self.d_hat + multiplier * self.l_hat
+        return [balance == 0, self.lam >= 0, cp.abs(self.f_t) <= self.cap_hat]
+
+
+_CERTIFICATE = {
+    "equilibrium": "equilibrium_residual",
+    "friction": "friction_residual",
+    "duality gap": "duality_gap",
+    "mechanism interpenetration": "dual_residual",
+}
+"""The residuals a multiplier must pass (each at most ``feas_tol``), by the result field."""
+
+
+def _multiplier_result(point: dict, status: str, attempts: tuple, start: float):
+    """The certified result (an accepted ``optimal_inaccurate`` warns)."""
+    inaccurate = status == cp.OPTIMAL_INACCURATE
+    if inaccurate:
+        warnings.warn(
+            "Tresca load multiplier: solver returned 'optimal_inaccurate'; the point "
+            "passed its certificate",
+            RuntimeWarning,
+            stacklevel=4,  # the caller of max_load_multiplier
+        )
+    wall = time.perf_counter() - start
+    return TrescaMultiplierResult(
+        **point, status=status, is_inaccurate=inaccurate, attempts=attempts, wall_s=wall
+    )
+
+
+def _multiplier_point(prog, packing, dead_traction, live_traction, s_e, tol: float) -> dict:
+    """An optimal point of ``prog`` in SI with its residuals, as the fields of
+    :class:`TrescaMultiplierResult` that the point fixes; raises ``DeadLoadInfeasibleError``
+    for a negative multiplier."""
+    a_star = float(prog.alpha.value) * prog.alpha_unit
+    if a_star < 0:
+        raise DeadLoadInfeasibleError(
+            f"Tresca load multiplier: the dead load alone is not carried (only the live "
+            f"load reversed, times {-a_star:.6g}, would balance it): no load multiplier "
+            "exists"
+        )
+    lam_si = np.asarray(prog.lam.value) * prog.force_scale
+    f_t_si = np.asarray(prog.f_t.value) * prog.force_scale
+    traction = np.asarray(dead_traction) + a_star * np.asarray(live_traction)
+    eq, fr = admissibility_residuals(packing, traction, s_e, lam_si, f_t_si)
+    y = np.asarray(prog.constraints[0].dual_value, dtype=np.float64)
+    upper, dual_res = _mechanism_bound(y, prog.A, prog.d_hat, prog.l_hat, prog.cap_hat)
+    upper *= prog.alpha_unit
+    gap = abs(upper - a_star) / max(abs(a_star), abs(upper), tol * prog.alpha_unit)
+    return {
+        "feasibility_shift": _feasibility_shift(prog) * prog.alpha_unit,
+        "load_multiplier": a_star,
+        "upper_bound": upper,
+        "normal_force": lam_si,
+        "tangential_force": f_t_si,
+        "equilibrium_residual": eq,
+        "friction_residual": fr,
+        "duality_gap": gap,
+        "dual_residual": dual_res,
+    }
+
+
+def _feasibility_shift(prog) -> float:
+    """``sum |dual| x violation`` over the rows of the solved (scaled) programme: the
+    first-order move of its optimum [scaled alpha] that the returned point's violations can
+    hide."""
+    z = np.concatenate([np.ravel(prog.lam.value), np.ravel(prog.f_t.value)])
+    balance = prog.A @ z + prog.d_hat + float(prog.alpha.value) * prog.l_hat
+    rows = (
+        (prog.constraints[0], np.abs(balance)),
+        (prog.constraints[1], np.maximum(-np.ravel(prog.lam.value), 0.0)),
+        (prog.constraints[2], np.maximum(np.abs(np.ravel(prog.f_t.value)) - prog.cap_hat, 0.0)),
+    )
+    return float(sum(np.abs(np.ravel(c.dual_value)) @ viol for c, viol in rows))
 
 
 def _mechanism_bound(y, A, d_hat, l_hat, cap_hat) -> tuple[float, float]:

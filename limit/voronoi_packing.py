@@ -339,103 +339,18 @@ def packing_from_polygons(
     Two sides touch when they are collinear with opposite outward normals; their overlap is
     an internal edge. The parts of a side covered by no neighbour are boundary edges.
     """
-    n_cells = len(polygons)
-    if n_cells < 1:
-        raise ValueError("polygons must hold at least one cell")
-    polys = []
-    for i, p in enumerate(polygons):
-        p = np.asarray(p, dtype=np.float64)
-        if p.ndim != 2 or p.shape[1] != 2 or len(p) < 3:
-            raise ValueError(f"polygon {i} must have shape (m >= 3, 2), got {p.shape}")
-        area = _signed_area(p)
-        if area == 0.0:
-            raise ValueError(f"polygon {i} has zero area")
-        polys.append(p if area > 0 else p[::-1])
+    polys = _counter_clockwise_polygons(polygons)
+    n_cells = len(polys)
     all_xy = np.concatenate(polys)
-    size = float(np.max(all_xy.max(axis=0) - all_xy.min(axis=0)))
-    tol = rtol * size
-
+    tol = rtol * float(np.max(all_xy.max(axis=0) - all_xy.min(axis=0)))
     if centres is None:
         centres = np.array([_centroid(p) for p in polys])
     centres = np.asarray(centres, dtype=np.float64)
     if centres.shape != (n_cells, 2):
         raise ValueError(f"centres must have shape ({n_cells}, 2), got {centres.shape}")
-
-    # every side of every cell: start, end, unit tangent, outward normal (tangent turned by -90)
-    side_cell = np.concatenate([np.full(len(p), i) for i, p in enumerate(polys)])
-    side_p0 = all_xy
-    side_p1 = np.concatenate([np.roll(p, -1, axis=0) for p in polys])
-    side_len = np.linalg.norm(side_p1 - side_p0, axis=1)
-    if np.any(side_len <= tol):
-        raise ValueError("polygons have repeated vertices")
-    side_t = (side_p1 - side_p0) / side_len[:, None]
-    side_n = np.stack([side_t[:, 1], -side_t[:, 0]], axis=1)
-    inward = np.einsum("ij,ij->i", side_n, centres[side_cell] - side_p0)
-    if np.any(inward >= -tol):
-        bad = np.unique(side_cell[inward >= -tol])
-        raise ValueError(f"centres of cells {bad.tolist()} are not strictly inside their polygons")
-
-    # pairs of sides with opposite normals on the same line
-    # candidates: overlapping sides have midpoints closer than the longest side (KD-tree keeps
-    # memory linear in the number of sides instead of an all-pairs matrix)
-    mid = 0.5 * (side_p0 + side_p1)
-    pairs = cKDTree(mid).query_pairs(r=float(side_len.max()) + tol, output_type="ndarray")
-    i_all, j_all = pairs[:, 0], pairs[:, 1]
-    anti = np.sum(side_n[i_all] * side_n[j_all], axis=1) < -1.0 + 1e-9
-    offset = np.abs(np.sum((side_p0[j_all] - side_p0[i_all]) * side_n[i_all], axis=1))
-    same_line = anti & (offset <= tol) & (side_cell[i_all] != side_cell[j_all])
-    i_all, j_all = i_all[same_line], j_all[same_line]
-    swap = side_cell[i_all] > side_cell[j_all]
-    i_all, j_all = np.where(swap, j_all, i_all), np.where(swap, i_all, j_all)
-    order = np.lexsort((j_all, i_all))
-    pieces: list[list[tuple[float, float, int]]] = [[] for _ in range(len(side_len))]
-    edges = []  # (cell_a, cell_b, p0, p1, normal a->b)
-    for i, j in zip(i_all[order], j_all[order], strict=True):
-        # parameters of side j's end points along side i
-        s = (np.stack([side_p0[j], side_p1[j]]) - side_p0[i]) @ side_t[i]
-        lo, hi = max(0.0, float(s.min())), min(float(side_len[i]), float(s.max()))
-        if hi - lo <= tol:
-            continue
-        e = len(edges)
-        p0 = side_p0[i] + lo * side_t[i]
-        p1 = side_p0[i] + hi * side_t[i]
-        edges.append((side_cell[i], side_cell[j], p0, p1, side_n[i]))
-        pieces[i].append((lo, hi, e))
-        sj = float(np.dot(p1 - side_p0[j], side_t[j]))  # side j runs the opposite way
-        pieces[j].append((sj, sj + hi - lo, e))
-
-    cell_xy, facet_edge, cell_ptr = [], [], [0]
-    bnd = []  # (cell, p0, p1, normal)
-    side = 0
-    for c, p in enumerate(polys):
-        for _ in range(len(p)):
-            covered = sorted(pieces[side])
-            t = 0.0
-            segs = []
-            for lo, hi, e in covered:
-                if lo - t > tol:
-                    segs.append((t, lo, -1))
-                segs.append((lo, hi, e))
-                t = hi
-            if side_len[side] - t > tol:
-                segs.append((t, float(side_len[side]), -1))
-            for lo, hi, e in segs:
-                cell_xy.append(side_p0[side] + lo * side_t[side])
-                if e >= 0:
-                    facet_edge.append(e)
-                else:
-                    facet_edge.append(-1 - len(bnd))
-                    bnd.append(
-                        (
-                            c,
-                            side_p0[side] + lo * side_t[side],
-                            side_p0[side] + hi * side_t[side],
-                            side_n[side],
-                        )
-                    )
-            side += 1
-        cell_ptr.append(len(cell_xy))
-
+    sides = _Sides.of(polys, centres, tol)
+    edges, pieces = _shared_edges(sides, tol)
+    cell_xy, facet_edge, cell_ptr, bnd = _facets(polys, sides, pieces, tol)
     n_edges = len(edges)
     edge_xy = np.array([[e[2], e[3]] for e in edges]).reshape(n_edges, 2, 2)
     bnd_xy = np.array([[b[1], b[2]] for b in bnd]).reshape(len(bnd), 2, 2)
@@ -460,6 +375,130 @@ def packing_from_polygons(
         packing.n_bnd,
     )
     return packing
+
+
+def _counter_clockwise_polygons(polygons) -> list[np.ndarray]:
+    """The cells as float (m_c, 2) arrays in counter-clockwise order; raises ``ValueError``
+    for no cell, a bad shape or a zero area."""
+    if len(polygons) < 1:
+        raise ValueError("polygons must hold at least one cell")
+    polys = []
+    for i, p in enumerate(polygons):
+        p = np.asarray(p, dtype=np.float64)
+        if p.ndim != 2 or p.shape[1] != 2 or len(p) < 3:
+            raise ValueError(f"polygon {i} must have shape (m >= 3, 2), got {p.shape}")
+        area = _signed_area(p)
+        if area == 0.0:
+            raise ValueError(f"polygon {i} has zero area")
+        polys.append(p if area > 0 else p[::-1])
+    return polys
+
+
+@dataclass(frozen=True)
+class _Sides:
+    """Every side of every cell, in cell order: owning cell (n_s,), start and end points
+    (n_s, 2) [m], length (n_s,) [m], unit tangent and outward normal (tangent turned by -90
+    deg) (n_s, 2)."""
+
+    cell: np.ndarray
+    p0: np.ndarray
+    p1: np.ndarray
+    length: np.ndarray
+    t: np.ndarray
+    n: np.ndarray
+
+    @classmethod
+    def of(cls, polys: list[np.ndarray], centres: np.ndarray, tol: float) -> _Sides:
+        """Sides of counter-clockwise cells; raises ``ValueError`` for repeated vertices or a
+        centre not strictly inside its cell."""
+        cell = np.concatenate([np.full(len(p), i) for i, p in enumerate(polys)])
+        p0 = np.concatenate(polys)
+        p1 = np.concatenate([np.roll(p, -1, axis=0) for p in polys])
+        length = np.linalg.norm(p1 - p0, axis=1)
+        if np.any(length <= tol):
+            raise ValueError("polygons have repeated vertices")
+        t = (p1 - p0) / length[:, None]
+        n = np.stack([t[:, 1], -t[:, 0]], axis=1)
+        inward = np.einsum("ij,ij->i", n, centres[cell] - p0)
+        if np.any(inward >= -tol):
+            bad = np.unique(cell[inward >= -tol])
+            raise ValueError(
+                f"centres of cells {bad.tolist()} are not strictly inside their polygons"
+            )
+        return cls(cell, p0, p1, length, t, n)
+
+
+def _shared_edges(sides: _Sides, tol: float):
+    """Internal edges: overlaps of pairs of sides of two cells on one line with opposite
+    normals. Returns the edges (cell_a, cell_b, p0, p1, normal a -> b) and, per side, the
+    pieces (lo, hi, edge) it shares, as distances along the side [m]."""
+    # candidates: overlapping sides have midpoints closer than the longest side (KD-tree keeps
+    # memory linear in the number of sides instead of an all-pairs matrix)
+    mid = 0.5 * (sides.p0 + sides.p1)
+    pairs = cKDTree(mid).query_pairs(r=float(sides.length.max()) + tol, output_type="ndarray")
+    i_all, j_all = pairs[:, 0], pairs[:, 1]
+    anti = np.sum(sides.n[i_all] * sides.n[j_all], axis=1) < -1.0 + 1e-9
+    offset = np.abs(np.sum((sides.p0[j_all] - sides.p0[i_all]) * sides.n[i_all], axis=1))
+    same_line = anti & (offset <= tol) & (sides.cell[i_all] != sides.cell[j_all])
+    i_all, j_all = i_all[same_line], j_all[same_line]
+    swap = sides.cell[i_all] > sides.cell[j_all]
+    i_all, j_all = np.where(swap, j_all, i_all), np.where(swap, i_all, j_all)
+    order = np.lexsort((j_all, i_all))
+    pieces: list[list[tuple[float, float, int]]] = [[] for _ in range(len(sides.length))]
+    edges = []
+    for i, j in zip(i_all[order], j_all[order], strict=True):
+        # parameters of side j's end points along side i
+        s = (np.stack([sides.p0[j], sides.p1[j]]) - sides.p0[i]) @ sides.t[i]
+        lo, hi = max(0.0, float(s.min())), min(float(sides.length[i]), float(s.max()))
+        if hi - lo <= tol:
+            continue
+        e = len(edges)
+        p0 = sides.p0[i] + lo * sides.t[i]
+        p1 = sides.p0[i] + hi * sides.t[i]
+        edges.append((sides.cell[i], sides.cell[j], p0, p1, sides.n[i]))
+        pieces[i].append((lo, hi, e))
+        sj = float(np.dot(p1 - sides.p0[j], sides.t[j]))  # side j runs the opposite way
+        pieces[j].append((sj, sj + hi - lo, e))
+    return edges, pieces
+
+
+def _facets(polys, sides: _Sides, pieces, tol: float):
+    """Split every side into its shared pieces and the uncovered rest (boundary edges).
+
+    Returns the facets' start points in cell order, their edge (``>= 0``: internal edge,
+    ``-1 - k``: boundary edge ``k``), the CSR pointer of the cells and the boundary edges
+    (cell, p0, p1, normal)."""
+    cell_xy, facet_edge, cell_ptr = [], [], [0]
+    bnd = []
+    side = 0
+    for c, p in enumerate(polys):
+        for _ in range(len(p)):
+            p0, t = sides.p0[side], sides.t[side]
+            for lo, hi, e in _side_segments(pieces[side], float(sides.length[side]), tol):
+                cell_xy.append(p0 + lo * t)
+                if e >= 0:
+                    facet_edge.append(e)
+                else:
+                    facet_edge.append(-1 - len(bnd))
+                    bnd.append((c, p0 + lo * t, p0 + hi * t, sides.n[side]))
+            side += 1
+        cell_ptr.append(len(cell_xy))
+    return cell_xy, facet_edge, cell_ptr, bnd
+
+
+def _side_segments(pieces, length: float, tol: float) -> list[tuple[float, float, int]]:
+    """The shared ``pieces`` (lo, hi, edge) of a side of ``length`` [m] in order, with the
+    gaps longer than ``tol`` between them as (lo, hi, -1)."""
+    t = 0.0
+    segs = []
+    for lo, hi, e in sorted(pieces):
+        if lo - t > tol:
+            segs.append((t, lo, -1))
+        segs.append((lo, hi, e))
+        t = hi
+    if length - t > tol:
+        segs.append((t, length, -1))
+    return segs
 
 
 def _centroid(poly: np.ndarray) -> np.ndarray:

@@ -17,7 +17,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
+from validation.report import reading_dir
+
+RESULTS = reading_dir()  # validation/results, or BLOCKMECH_RESULTS (quick or a path)
 OUT = Path(__file__).resolve().parent / "out"
 CASE = "interface-strength"
 RATIOS = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0)

@@ -18,8 +18,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
+from validation.report import reading_dir
+
+RESULTS = reading_dir()  # validation/results, or BLOCKMECH_RESULTS (quick or a path)
 OUT = Path(__file__).resolve().parent / "out"
+MODELS = ("vertex", "resultant")
 TABLES = (
     ("limit-orduna", "Table 1 (lambda)", "seed limit analysis"),
     ("limit-restrepo", "Table 2 (lambda)", "experiment"),
@@ -89,72 +92,11 @@ def main() -> list[Path]:
         data = _collect(_rows(case))
         labels = list(data)
         x = np.arange(len(labels))
-        for i, (model, colour) in enumerate((("vertex", "C0"), ("resultant", "C1"))):
-            up = [data[k]["models"].get(model, {}).get("upper") for k in labels]
-            up = [np.nan if v is None else v for v in up]
-            ax.bar(
-                x + (i - 0.5) * 0.35,
-                up,
-                0.35,
-                color=colour,
-                alpha=0.35,
-                label=f"upper bound [{model}]",
-            )
-            for est, marker in (("a", "v"), ("b", "o")):
-                vals = [data[k]["models"].get(model, {}).get(est) for k in labels]
-                vals = [np.nan if v is None else v for v in vals]
-                ax.plot(
-                    x + (i - 0.5) * 0.35,
-                    vals,
-                    marker,
-                    color=colour,
-                    ls="none",
-                    label=f"estimate ({est}) [{model}]",
-                )
-        ref = [data[k]["reference"] for k in labels]
-        ax.plot(x, [np.nan if v is None else v for v in ref], "k*", ms=11, label=ref_label)
-        sd = [data[k].get("seed_dem") for k in labels]
-        ax.plot(x, [np.nan if v is None else v for v in sd], "kx", ms=9, label="seed DEM")
-        for dem_model, marker in (("resultant", "s"), ("fibre", "D")):
-            vals = []
-            for k in labels:
-                v = dem.get(_spec_key(k), {}).get(dem_model, (None, None))[0]
-                vals.append(np.nan if v is None else v)
-            if np.isfinite(vals).any():
-                ax.plot(
-                    x,
-                    vals,
-                    marker,
-                    color="C2",
-                    mfc="none",
-                    ms=8,
-                    ls="none",
-                    label=f"our DEM [{dem_model}]",
-                )
+        _plot_bounds(ax, x, labels, data)
+        _plot_references(ax, x, labels, data, ref_label)
+        _plot_our_dem(ax, x, labels, dem)
         if case == "limit-orduna":
-            # the 6 x 13 panel between rigid columns is unbounded (arching): keep the scale
-            top = 2.0
-            for k, lab in enumerate(labels):
-                for dem_model in ("resultant", "fibre"):
-                    v = dem.get(_spec_key(lab), {}).get(dem_model, (None, None))[0]
-                    if v is not None and v > top:
-                        ax.annotate(
-                            f"DEM {dem_model} {v:.1f} (arching)",
-                            (k, 1.0),
-                            fontsize=7,
-                            ha="center",
-                        )
-                if all(
-                    data[lab]["models"].get(m, {}).get("upper") is None
-                    for m in ("vertex", "resultant")
-                ):
-                    ax.annotate(
-                        "upper bound unbounded\n(rigid columns, f_c = inf)",
-                        (k, 0.5),
-                        fontsize=7,
-                        ha="center",
-                    )
-            ax.set_ylim(0.03, top)
+            _annotate_arching(ax, labels, data, dem)
         ax.set_xticks(x, labels, rotation=20, fontsize=8, ha="right")
         ax.legend(fontsize=6, ncol=5, loc="upper left")
         ax.set_title(f"seed 001 {title}", fontsize=10)
@@ -165,6 +107,56 @@ def main() -> list[Path]:
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return [path]
+
+
+def _nan_for_none(values) -> list[float]:
+    return [np.nan if v is None else v for v in values]
+
+
+def _plot_bounds(ax, x, labels, data) -> None:
+    """Upper bounds (bars) and estimates (a) and (b) (markers) of both interface models."""
+    for i, (model, colour) in enumerate((("vertex", "C0"), ("resultant", "C1"))):
+        shift = x + (i - 0.5) * 0.35
+        up = _nan_for_none(data[k]["models"].get(model, {}).get("upper") for k in labels)
+        ax.bar(shift, up, 0.35, color=colour, alpha=0.35, label=f"upper bound [{model}]")
+        for est, marker in (("a", "v"), ("b", "o")):
+            vals = _nan_for_none(data[k]["models"].get(model, {}).get(est) for k in labels)
+            label = f"estimate ({est}) [{model}]"
+            ax.plot(shift, vals, marker, color=colour, ls="none", label=label)
+
+
+def _plot_references(ax, x, labels, data, ref_label: str) -> None:
+    """The reference (experiment or the seed's limit analysis) and the seed's DEM."""
+    ref = _nan_for_none(data[k]["reference"] for k in labels)
+    ax.plot(x, ref, "k*", ms=11, label=ref_label)
+    seed_dem = _nan_for_none(data[k].get("seed_dem") for k in labels)
+    ax.plot(x, seed_dem, "kx", ms=9, label="seed DEM")
+
+
+def _plot_our_dem(ax, x, labels, dem) -> None:
+    """Our DEM's collapse multipliers (limit-vs-dem), both interface laws, where there are."""
+    for dem_model, marker in (("resultant", "s"), ("fibre", "D")):
+        vals = _nan_for_none(
+            dem.get(_spec_key(k), {}).get(dem_model, (None, None))[0] for k in labels
+        )
+        if np.isfinite(vals).any():
+            label = f"our DEM [{dem_model}]"
+            ax.plot(x, vals, marker, color="C2", mfc="none", ms=8, ls="none", label=label)
+
+
+def _annotate_arching(ax, labels, data, dem, top: float = 2.0) -> None:
+    """The 6 x 13 panel between rigid columns is unbounded (arching): name the values above
+    ``top`` and the missing upper bounds, and keep the scale."""
+    for k, lab in enumerate(labels):
+        for dem_model in ("resultant", "fibre"):
+            v = dem.get(_spec_key(lab), {}).get(dem_model, (None, None))[0]
+            if v is not None and v > top:
+                text = f"DEM {dem_model} {v:.1f} (arching)"
+                ax.annotate(text, (k, 1.0), fontsize=7, ha="center")
+        if all(data[lab]["models"].get(m, {}).get("upper") is None for m in MODELS):
+            text = "upper bound unbounded\n(rigid columns, f_c = inf)"
+            ax.annotate(text, (k, 0.5), fontsize=7, ha="center")
+    ax.set_ylim(0.03, top)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results" / "limit_mechanisms"
+from validation.report import reading_dir
+
+RESULTS = reading_dir() / "limit_mechanisms"  # BLOCKMECH_RESULTS chooses the folder
 OUT = Path(__file__).resolve().parent / "out"
 PANELS = ("orduna-3x13", "orduna-6x13")
 MODELS = ("vertex", "resultant")

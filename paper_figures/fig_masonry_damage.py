@@ -14,9 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
+from validation.report import reading_dir
+
 os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
+RESULTS = reading_dir()  # validation/results, or BLOCKMECH_RESULTS (quick or a path)
 RUNS = RESULTS / "masonry"
 OUT = Path(__file__).resolve().parent / "out"
 COLOURS = {

@@ -18,7 +18,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
+from validation.report import reading_dir
+
+RESULTS = reading_dir()  # validation/results, or BLOCKMECH_RESULTS (quick or a path)
 RUNS = RESULTS / "masonry"
 OUT = Path(__file__).resolve().parent / "out"
 # the seed's own combination and our best one are drawn; the other two are in the tables

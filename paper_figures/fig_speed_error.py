@@ -24,9 +24,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from validation.report import is_published  # noqa: E402
+from validation.report import is_published, reading_dir  # noqa: E402
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
+RESULTS = reading_dir()  # validation/results, or BLOCKMECH_RESULTS (quick or a path)
 OUT = Path(__file__).resolve().parent / "out"
 FLOOR = 1e-16
 SKIP = ("bound", "informational")  # inequalities and side notes, not errors

@@ -17,7 +17,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
+from validation.report import reading_dir
+
+RESULTS = reading_dir()  # validation/results, or BLOCKMECH_RESULTS (quick or a path)
 OUT = Path(__file__).resolve().parent / "out"
 SCENES = {
     "four-cells": "4 cells, uniform compression (seed 003 Fig. 6)",

@@ -6,7 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-RESULTS = Path(__file__).resolve().parents[1] / "validation" / "results"
+from validation.report import reading_dir
+
+RESULTS = reading_dir()  # validation/results, or BLOCKMECH_RESULTS (quick or a path)
 OUT = Path(__file__).resolve().parent / "out"
 MM = 1e-3
 

@@ -44,6 +44,7 @@ def test_nan_value_and_unknown_budget_are_refused():
         (0.28431, 0.0, "0.28431"),
         (123.456, 2.3, "123.5 ± 2.3"),
         (0.3, math.inf, "0.3 ± ?"),
+        (0.285158842223, 3.5e-11, "0.2851588 ± 3.5e-11"),
     ],
 )
 def test_format_keeps_the_digits_the_error_supports(value, error, text):

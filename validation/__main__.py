@@ -1,100 +1,104 @@
 """Command line: ``python -m validation list | run CASE [--quick] | all [--quick] |
-crosscheck SCENE [--live x] [--out DIR] [--methods ...] [--quick]``."""
+manifest [--quick] [--write] | crosscheck SCENE [--live x] [--out DIR] [--methods ...]
+[--quick]``.
+
+Full runs write ``validation/results/`` (committed, all from one commit: ``MANIFEST.json``);
+quick runs write ``validation/results-quick/`` (git-ignored) and never touch the full results.
+"""
 
 from __future__ import annotations
 
 import argparse
-import importlib
 import os
-import pkgutil
 import sys
-import time
-import warnings
-from collections.abc import Callable
 from pathlib import Path
 
-import validation.cases
+from validation import catalogue
+from validation.catalogue import CASES
 from validation.crosscheck.cli import add_arguments as add_crosscheck_arguments
 from validation.crosscheck.cli import join_signed_values
 from validation.crosscheck.cli import run as run_crosscheck
 from validation.main_job import run_all
-from validation.report import RESULTS_DIR, staged, write_results
-
-
-def discover_cases() -> dict[str, Callable]:
-    """Every case: each module of ``validation.cases`` exposes ``CASES = {name: run}``.
-
-    ``run(quick: bool)`` returns a list of :class:`validation.report.Row`, or a pair
-    ``(rows, notes)`` where ``notes`` is markdown stating the case's assumptions.
-    """
-    cases: dict[str, Callable] = {}
-    for info in sorted(pkgutil.iter_modules(validation.cases.__path__), key=lambda m: m.name):
-        try:
-            module = importlib.import_module(f"validation.cases.{info.name}")
-        except Exception as exc:  # a broken module must not hide the other cases
-            cases[f"{info.name} (import failed)"] = _failed_import(info.name, exc)
-            continue
-        for name, run in getattr(module, "CASES", {}).items():
-            if name in cases:
-                raise RuntimeError(f"validation case {name!r} is defined twice")
-            cases[name] = run
-    return cases
-
-
-def _failed_import(module: str, exc: Exception) -> Callable:
-    def run(quick: bool):
-        raise RuntimeError(f"validation.cases.{module} failed to import: {exc!r}") from exc
-
-    return run
-
-
-CASES = discover_cases()
+from validation.manifest import check_manifest, write_manifest
+from validation.provenance import git_commit, git_dirty
+from validation.report import results_dir
 
 
 def run_case(name: str, quick: bool, out_dir: Path | None = None) -> list:
-    """Run one case and write ``validation/results/NAME.{json,md}`` and its side products
-    together (:func:`validation.report.staged`); warning filters the case sets end with it.
-    Returns the case's rows."""
-    start = time.perf_counter()
-    with staged(name, out_dir) as stage, warnings.catch_warnings():
-        out = CASES[name](quick=quick)
-        rows, notes = out if isinstance(out, tuple) else (out, "")
-        wall = time.perf_counter() - start
-        write_results(name, rows, quick=quick, wall_s=wall, notes=notes, out_dir=stage)
-    final = Path(RESULTS_DIR if out_dir is None else out_dir)
-    print(f"{name}: {len(rows)} rows in {wall:.1f} s -> {final / name}.{{json,md}}")
+    """:func:`validation.catalogue.run_case`, with a line on the terminal."""
+    rows = catalogue.run_case(name, quick, out_dir)
+    final = results_dir(quick) if out_dir is None else Path(out_dir)
+    print(f"{name}: {len(rows)} rows -> {final / name}.{{json,md}}")
     return rows
 
 
-def main(argv: list[str] | None = None) -> int:
+def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m validation")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="name every case")
     run = sub.add_parser("run", help="run one case")
     run.add_argument("case", choices=sorted(CASES))
-    run.add_argument("--quick", action="store_true", help="small, fast version")
     every = sub.add_parser("all", help="run every case")
-    every.add_argument("--quick", action="store_true", help="small, fast versions")
     every.add_argument(
         "--verbose", action="store_true", help="print everything instead of one line per case"
     )
+    every.add_argument(
+        "--allow-dirty",
+        action="store_true",
+        help="run the full cases from a tree with uncommitted changes (marked in every file)",
+    )
+    manifest = sub.add_parser(
+        "manifest", help="say which results are not from the manifest's commit"
+    )
+    manifest.add_argument("--write", action="store_true", help="rebuild it from the files")
+    for p in (run, every, manifest):
+        p.add_argument(
+            "--quick", action="store_true", help=f"small, fast versions, in {_QUICK_NAME}"
+        )
     for p in (run, every):
         _add_cluster_args(p)
     cross = sub.add_parser("crosscheck", help="every method on one scene -> report")
     add_crosscheck_arguments(cross)
-    args = parser.parse_args(join_signed_values(sys.argv[1:] if argv is None else argv))
+    return parser
 
+
+_QUICK_NAME = "validation/results-quick/"
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(join_signed_values(sys.argv[1:] if argv is None else argv))
     if args.command == "list":
         for name in CASES:
             print(name)
         return 0
     if args.command == "crosscheck":
         return run_crosscheck(args)
+    if args.command == "manifest":
+        return _manifest(args.quick, args.write)
+    if args.command == "all" and not args.quick and not args.allow_dirty:
+        dirty, files = git_dirty()
+        if dirty:
+            print(
+                f"validation all: the tree has uncommitted changes ({', '.join(files[:5])}): "
+                "full results come from one clean commit (commit first, or --allow-dirty)",
+                file=sys.stderr,
+            )
+            return 2
+    commit = git_commit()
+    status = _run_cases(args)
+    if args.command == "all":  # the folder's manifest names the commit of this run
+        write_manifest(results_dir(args.quick), commit)
+        _manifest(args.quick, write=False)
+    return status
+
+
+def _run_cases(args) -> int:
     names = [args.case] if args.command == "run" else list(CASES)
     if args.workers is not None or args.scheduler:
         return _run_on_cluster(names, args)
     if args.command == "all" and not args.verbose:
-        summaries = run_all(names, run_case, args.quick, RESULTS_DIR / "validation.log")
+        log = results_dir(args.quick) / "validation.log"
+        summaries = run_all(names, run_case, args.quick, log)
         return 1 if any(s.failed for s in summaries) else 0
     failed = []
     for name in names:
@@ -109,6 +113,20 @@ def main(argv: list[str] | None = None) -> int:
         print(f"failed cases: {', '.join(failed)}", file=sys.stderr)
         return 1
     return 0
+
+
+def _manifest(quick: bool, write: bool) -> int:
+    """Rebuild (``write``) or check the manifest of the full or quick results; 1 when a
+    result is not from its commit."""
+    folder = results_dir(quick)
+    if write:
+        print(f"wrote {write_manifest(folder)}")
+    problems = check_manifest(folder, CASES, full=not quick)
+    for line in problems:
+        print(line)
+    if not problems:
+        print(f"{folder}: every result is from the manifest's commit, from a clean tree")
+    return 1 if problems else 0
 
 
 def _add_cluster_args(parser: argparse.ArgumentParser) -> None:

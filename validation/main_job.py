@@ -2,7 +2,9 @@
 
 The summary separates numerical errors (rows whose reference is a closed form, an exact count
 or another method) from model errors (rows whose reference is a seed's table or experiment),
-by :func:`validation.report.is_published`, as ``paper_figures/fig_speed_error.py`` does.
+by :func:`validation.report.is_published`, as ``paper_figures/fig_speed_error.py`` does, and
+counts the rows whose reference lies outside our error bar (numerical / model) and the rows
+whose bar is not estimated.
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ class CaseSummary:
     rows : int
     worst_numerical, worst_model : float or None
         Largest relative error of the rows with a numerical / published reference [-].
+    outside_numerical, outside_model : int
+        Rows whose numerical / published reference lies outside our error bar.
+    no_bar : int
+        Rows with a value whose error bar is not estimated (``inf``).
     wall_s : float
         [s].
     failed : str
@@ -40,6 +46,9 @@ class CaseSummary:
     worst_model: float | None
     wall_s: float
     failed: str = ""
+    outside_numerical: int = 0
+    outside_model: int = 0
+    no_bar: int = 0
 
     @classmethod
     def of(cls, case: str, rows: Sequence[Row], wall_s: float) -> CaseSummary:
@@ -50,7 +59,18 @@ class CaseSummary:
                 continue
             kind = is_published(r.source)
             worst[kind] = err if worst[kind] is None else max(worst[kind], err)
-        return cls(case, len(rows), worst[False], worst[True], wall_s)
+        kinds = [r.error_kind for r in rows]
+        no_bar = sum(r.ours is not None and math.isinf(r.ours_error) for r in rows)
+        return cls(
+            case,
+            len(rows),
+            worst[False],
+            worst[True],
+            wall_s,
+            outside_numerical=kinds.count("numerical"),
+            outside_model=kinds.count("model"),
+            no_bar=no_bar,
+        )
 
     def cells(self) -> list:
         return [
@@ -58,12 +78,23 @@ class CaseSummary:
             self.rows,
             self.worst_numerical,
             self.worst_model,
+            f"{self.outside_numerical}/{self.outside_model}",
+            self.no_bar,
             round(self.wall_s, 1),
             self.failed or "no",
         ]
 
 
-HEADER = ("case", "rows", "worst numerical error", "worst model error", "wall [s]", "failed")
+HEADER = (
+    "case",
+    "rows",
+    "worst numerical error",
+    "worst model error",
+    "outside bar (num/model)",
+    "no bar",
+    "wall [s]",
+    "failed",
+)
 
 
 def run_all(

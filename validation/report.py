@@ -13,30 +13,34 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import dataclasses
-import datetime
 import hashlib
 import json
 import math
 import os
-import platform
 import shutil
-import subprocess
 import uuid
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from importlib import metadata
 from pathlib import Path
 from typing import Any
 
+from dem.estimate import Estimate, format_estimate
+from validation import provenance
+from validation.provenance import git_commit as _git_commit  # noqa: F401 (crosscheck.files)
+from validation.provenance import versions as _versions  # noqa: F401 (crosscheck.files)
+
 RESULTS_DIR = Path(__file__).parent / "results"
+"""The committed results of full runs, all from one commit (``MANIFEST.json``)."""
+QUICK_RESULTS_DIR = Path(__file__).parent / "results-quick"
+"""Where quick runs write (git-ignored): a quick run never touches :data:`RESULTS_DIR`."""
+RESULTS_ENV = "BLOCKMECH_RESULTS"
+"""Environment variable naming the results folder readers use: ``quick``, ``full`` (the
+default) or a path."""
 STAGING_PREFIX = ".staging-"
-"""Staging directories ``RESULTS_DIR/.staging-CASE-PID`` (git-ignored)."""
-_REPO = Path(__file__).parent.parent
-_GENERATED = ("validation/results", "paper_figures/out")
-"""Paths whose changes do not make the tree dirty (the runs' own outputs)."""
+"""Staging directories ``OUT/.staging-CASE-PID`` (git-ignored)."""
 
 _STAGING: contextvars.ContextVar[Path | None] = contextvars.ContextVar("staging", default=None)
-_PACKAGES = ("numpy", "scipy", "numba", "scikit-fem", "gmsh", "meshio", "cvxpy", "clarabel")
+_FINAL: contextvars.ContextVar[Path | None] = contextvars.ContextVar("final", default=None)
 
 
 def is_published(source: str) -> bool:
@@ -55,7 +59,8 @@ class Row:
     quantity
         What is compared, with its unit, e.g. ``"block volume 5x5 theta=2.5 [mm^3]"``.
     ours
-        Our value (None when a method does not apply to the row).
+        Our value, or our :class:`~dem.estimate.Estimate` (value and error bar; it sets
+        ``error_sources``), or None when a method does not apply to the row.
     reference
         The independent value (closed form, seed table, other method), or None.
     source
@@ -66,15 +71,57 @@ class Row:
         Anything needed to reproduce the row (solver settings, discretisation, seed).
     extra
         Further columns (other methods' values, flags such as ``within_bounds``).
+    error_sources
+        Source -> half-width of ``ours``' error bar (same unit, >= 0; ``{"exact": 0}`` for an
+        exact value). A numeric ``ours`` given without them has an unknown error
+        (``{"not estimated": inf}``), never a silent zero.
+    error_notes
+        How the bar was estimated (levels, order assumed).
     """
 
     quantity: str
-    ours: float | None
+    ours: float | Estimate | None
     reference: float | None = None
     source: str = ""
     wall_s: float | None = None
     settings: dict[str, Any] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
+    error_sources: dict[str, float] = field(default_factory=dict)
+    error_notes: str = ""
+
+    def __post_init__(self) -> None:
+        if isinstance(self.ours, Estimate):
+            est = self.ours
+            if self.error_sources:
+                raise ValueError(f"row {self.quantity!r}: give an Estimate or error_sources")
+            self.ours = est.value
+            self.error_sources = dict(est.sources)
+            self.error_notes = self.error_notes or est.notes
+        elif self.ours is None:
+            self.error_sources = {}
+        else:
+            self.ours = float(self.ours)
+            if math.isnan(self.ours):
+                raise ValueError(
+                    f"row {self.quantity!r}: ours is NaN; give None (no value) and say why"
+                )
+            if not self.error_sources:
+                self.error_sources = dict(Estimate.unknown(self.ours).sources)
+            else:  # validated by Estimate
+                self.error_sources = dict(Estimate(self.ours, self.error_sources).sources)
+
+    @property
+    def estimate(self) -> Estimate | None:
+        """``ours`` with its error bar, or None."""
+        if self.ours is None:
+            return None
+        return Estimate(self.ours, self.error_sources, notes=self.error_notes)
+
+    @property
+    def ours_error(self) -> float | None:
+        """Half-width of ``ours``' error bar (``inf`` when unknown), None without ``ours``."""
+        est = self.estimate
+        return None if est is None else est.error
 
     @property
     def rel_error(self) -> float | None:
@@ -85,58 +132,83 @@ class Row:
         scale = abs(float(self.reference))
         return diff / scale if scale > 0 else diff
 
+    @property
+    def reference_inside(self) -> bool | None:
+        """Whether the reference lies in ``ours ± ours_error`` (None: nothing to compare, or
+        the error is unknown, so the bar says nothing)."""
+        est = self.estimate
+        if est is None or self.reference is None or not math.isfinite(est.error):
+            return None
+        return est.contains(float(self.reference))
+
+    @property
+    def error_kind(self) -> str | None:
+        """Why the reference lies outside our bar: ``"model"`` when the reference is a seed's
+        table or experiment (the physics differs: model error), ``"numerical"`` when it is a
+        closed form or another method (our bar is too small, or a method is wrong); None when
+        it lies inside or nothing is compared."""
+        if self.reference_inside is not False:
+            return None
+        return "model" if is_published(self.source) else "numerical"
+
     def to_dict(self) -> dict[str, Any]:
         out = dataclasses.asdict(self)
         out["reference"] = {"value": self.reference, "source": self.source}
         del out["source"]
+        out["ours_error"] = self.ours_error
         out["rel_error"] = self.rel_error
+        out["reference_inside"] = self.reference_inside
+        out["error_kind"] = self.error_kind
         return out
+
+    def ours_text(self) -> str:
+        """``value ± error`` rounded to the digits the error supports (``-`` without ours)."""
+        est = self.estimate
+        return "-" if est is None else format_estimate(est.value, est.error)
+
+
+def results_dir(quick: bool) -> Path:
+    """Where a run writes: :data:`QUICK_RESULTS_DIR` for a quick run, else :data:`RESULTS_DIR`."""
+    return QUICK_RESULTS_DIR if quick else RESULTS_DIR
+
+
+def reading_dir() -> Path:
+    """The results folder that readers (figures, benchmarks) use: :data:`RESULTS_ENV` set to
+    ``quick`` gives :data:`QUICK_RESULTS_DIR`, ``full`` or unset :data:`RESULTS_DIR`, anything
+    else is a path."""
+    choice = os.environ.get(RESULTS_ENV, "full")
+    return {"full": RESULTS_DIR, "quick": QUICK_RESULTS_DIR}.get(choice, Path(choice))
 
 
 def output_dir() -> Path:
     """Where a running case writes its side products: its staging directory inside
-    :func:`staged`, else ``RESULTS_DIR``."""
-    return _STAGING.get() or RESULTS_DIR
+    :func:`staged`; outside a run (a test or a script calling a case's function) the folder
+    :data:`RESULTS_ENV` names, or the quick folder, never the committed full results."""
+    stage = _STAGING.get()
+    if stage is not None:
+        return stage
+    chosen = reading_dir()
+    return QUICK_RESULTS_DIR if chosen == RESULTS_DIR else chosen
 
 
-def _git_dirty() -> tuple[bool | None, list[str]]:
-    """Whether the working tree differs from the commit (outside :data:`_GENERATED`), and the
-    first changed paths; ``(None, [])`` when git cannot tell."""
+def input_path(name: str) -> Path:
+    """Another case's output ``name`` as a running case reads it: from the folder the run
+    writes to (the quick folder for a quick run) when it is there, else from the committed
+    full results (read only). Outside a run: :func:`reading_dir` ``/ name``."""
+    final = _FINAL.get()
+    if final is not None and (final / name).exists():
+        return final / name
+    return (RESULTS_DIR if final is not None else reading_dir()) / name
+
+
+def final_path(name: str) -> str:
+    """Where the side product ``name`` of a running case lands once the run ends (relative to
+    the repository when it is inside it), for the files that name each other."""
+    path = (_FINAL.get() or reading_dir()) / name
     try:
-        out = subprocess.run(
-            ["git", "status", "--porcelain", "--", ".", *[f":!{g}" for g in _GENERATED]],
-            cwd=_REPO,
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout
-    except (OSError, subprocess.CalledProcessError):
-        return None, []
-    paths = [line[3:] for line in out.splitlines() if line.strip()]
-    return bool(paths), paths[:20]
-
-
-def _git_commit() -> str:
-    try:
-        return subprocess.run(
-            ["git", "rev-parse", "HEAD"],
-            cwd=Path(__file__).parent,
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
-
-
-def _versions() -> dict[str, str]:
-    out = {"python": platform.python_version()}
-    for name in _PACKAGES:
-        try:
-            out[name] = metadata.version(name)
-        except metadata.PackageNotFoundError:
-            out[name] = "not installed"
-    return out
+        return str(path.resolve().relative_to(provenance.REPO))
+    except ValueError:
+        return str(path.resolve())
 
 
 def _jsonable(value: Any) -> Any:
@@ -187,21 +259,22 @@ def _write_atomic(path: Path, text: str) -> None:
 
 @contextlib.contextmanager
 def staged(case: str, out_dir: Path | None = None) -> Iterator[Path]:
-    """Run a case's writes in a staging directory and move them into ``out_dir`` only when
-    the block ends without an exception (module notes). Stale staging directories of the
-    same case (a killed run) are removed first."""
+    """Run a case's writes in a staging directory and move them into ``out_dir`` (default
+    :data:`RESULTS_DIR`) only when the block ends without an exception (module notes). Stale
+    staging directories of the same case (a killed run) are removed first."""
     out_dir = Path(RESULTS_DIR if out_dir is None else out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     for stale in out_dir.glob(f"{STAGING_PREFIX}{case}-*"):
         shutil.rmtree(stale, ignore_errors=True)
     stage = out_dir / f"{STAGING_PREFIX}{case}-{os.getpid()}"
     stage.mkdir()
-    token = _STAGING.set(stage)
+    token, final = _STAGING.set(stage), _FINAL.set(out_dir)
     try:
         yield stage
         _commit(stage, out_dir, case)
     finally:
         _STAGING.reset(token)
+        _FINAL.reset(final)
         shutil.rmtree(stage, ignore_errors=True)
 
 
@@ -229,7 +302,8 @@ def write_results(
 
     ``out_dir`` defaults to :func:`output_dir` (the staging directory of a running case). The
     JSON lists the side products already written there with their SHA-256, and records the
-    commit and whether the working tree was dirty (``git_dirty``, ``git_dirty_files``).
+    commit, whether the working tree was clean (``git_clean``, ``git_dirty_files``), the date
+    and the wall time.
     """
     out_dir = output_dir() if out_dir is None else Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -243,41 +317,63 @@ def write_results(
         if _STAGING.get() == out_dir
         else {}
     )
-    dirty, dirty_files = _git_dirty()
     payload = {
         "case": case,
         "quick": quick,
-        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-        "git_commit": _git_commit(),
-        "git_dirty": dirty,
-        "git_dirty_files": dirty_files,
-        "versions": _versions(),
+        **provenance.stamp(),
+        "versions": provenance.versions(),
         "wall_s": wall_s,
         "notes": notes,
         "side_products": side,
         "rows": [r.to_dict() for r in rows],
     }
-    json_path = out_dir / f"{case}.json"
+    md_path, json_path = out_dir / f"{case}.md", out_dir / f"{case}.json"
+    _write_atomic(md_path, markdown(payload, rows))
+    _write_atomic(json_path, json.dumps(_jsonable(payload), indent=1) + "\n")
+    return json_path, md_path
 
+
+ERROR_LEGEND = (
+    "`ours` is `value ± error`: the error bar of our method's own model (discretisation: load "
+    "step, grid, mesh, end of path, duality gap), rounded to the digits it supports; `± ?` is "
+    "an error not estimated. `ref in bar`: whether the reference lies in that bar; where it does "
+    "not, `model` marks a reference from a seed's table or experiment (the physics of our model "
+    "differs from the experiment: a model error, which no refinement removes) and `numerical` a "
+    "closed form or another method (our bar is too small, or a method is wrong)."
+)
+
+
+def _inside_cell(row: Row) -> str:
+    if row.reference is None or row.ours is None:
+        return "-"
+    if row.reference_inside is None:
+        return "?"
+    return "yes" if row.reference_inside else f"no ({row.error_kind})"
+
+
+def markdown(payload: dict[str, Any], rows: list[Row]) -> str:
+    """The table of a case as markdown: header with commit, clean flag, date and wall time,
+    the notes, the error legend, then one line per row."""
     extra_keys: list[str] = []
     for r in rows:
         extra_keys += [k for k in r.extra if k not in extra_keys]
-    header = ["quantity", "ours", "reference", "source", "rel_error", "wall_s", *extra_keys]
-    flag = {True: " (dirty tree)", False: "", None: " (tree state unknown)"}[dirty]
+    header = ["quantity", "ours", "reference", "source", "rel_error", "ref in bar", "wall_s"]
+    header += extra_keys
+    clean = payload["git_clean"]
+    flag = {False: " (dirty tree)", True: "", None: " (tree state unknown)"}[clean]
     lines = [
-        f"# {case}{' (quick)' if quick else ''}",
+        f"# {payload['case']}{' (quick)' if payload['quick'] else ''}",
         "",
-        f"commit `{payload['git_commit'][:12]}`{flag}, {payload['date']}, total {wall_s:.2f} s",
+        f"commit `{payload['git_commit'][:12]}`{flag}, {payload['date']}, "
+        f"total {payload['wall_s']:.2f} s",
         "",
     ]
-    if notes:
-        lines += [notes, ""]
+    if payload["notes"]:
+        lines += [payload["notes"], ""]
+    lines += [ERROR_LEGEND, ""]
     lines += ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
-        cells = [r.quantity, r.ours, r.reference, r.source, r.rel_error, r.wall_s]
-        cells += [r.extra.get(k) for k in extra_keys]
+        cells = [r.quantity, r.ours_text(), r.reference, r.source, r.rel_error, _inside_cell(r)]
+        cells += [r.wall_s, *(r.extra.get(k) for k in extra_keys)]
         lines.append("| " + " | ".join(_fmt(c) for c in cells) + " |")
-    md_path = out_dir / f"{case}.md"
-    _write_atomic(md_path, "\n".join(lines) + "\n")
-    _write_atomic(json_path, json.dumps(_jsonable(payload), indent=1) + "\n")
-    return json_path, md_path
+    return "\n".join(lines) + "\n"

@@ -16,11 +16,15 @@ Modules, one concern each:
   relaxation, support check);
 - :mod:`~dem.explicit.indentation`: the sphere-indentation driver (seed 000) with checkpoints;
 - :mod:`~dem.explicit.lateral`: the tilting-table / live-load driver to collapse;
+- :mod:`~dem.explicit.continuation`: the lateral multiplier's error bar (bracket, loading
+  rate, time step, node spacing) and its continuation in joint stiffness to rigid blocks;
+- :mod:`~dem.explicit.diagnosis`: the block pairs in contact at a state, with their forces;
 - :mod:`~dem.explicit.stiffness`: ``k_n`` from the material and settings for masonry;
 - :mod:`~dem.explicit.checkpoint`: checkpoint files (``.npz`` plus JSON, no pickles);
 - :mod:`~dem.explicit.results`: result objects and post-processing.
 """
 
+from dem.explicit.continuation import RigidContinuation
 from dem.explicit.indentation import simulate_indentation
 from dem.explicit.lateral import LiveLoadRamp, MotionCriteria, TiltingTable, simulate_lateral
 from dem.explicit.model import ExplicitModel
@@ -49,6 +53,7 @@ __all__ = [
     "LiveLoadRamp",
     "MotionCriteria",
     "RelaxationSettings",
+    "RigidContinuation",
     "SimulationError",
     "UnmodelledContactError",
     "TiltingTable",

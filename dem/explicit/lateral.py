@@ -5,17 +5,21 @@ in steps: each step ramps the load at a slow rate to the next value and holds it
 blocks are judged at the end of the hold (:class:`MotionCriteria`):
 
 - *moving*: a block moved more than ``displacement_tol`` during the step (ramp and hold;
-  the hold goes on, up to ``max_hold``, while blocks are faster than ``speed_tol``);
+  the hold goes on, up to ``max_hold``, while blocks are faster than ``speed_tol``), or the
+  step moved the blocks far more than the stiffest response so far and they stopped (a
+  mechanism arrested after finite rotations, :class:`MotionCriteria` ``onset_fraction``);
 - *stable*: every block came to rest (speed below ``speed_tol``) first, or ``max_hold``
   ended with every block below ``displacement_tol`` (vibration, elastic creep).
 
 On the first moving step the state of the last stable step is restored and the step is halved
-(``refinements`` times), so the bracket ``lambda_stable < lambda* <= lambda_moving`` closes to
-``step / 2^refinements``. A block just past its threshold by ``epsilon`` in ``lambda``
-accelerates at about ``(1 - c) g epsilon`` with ``c`` the local damping; it keeps moving while
-held (its speed grows past ``speed_tol``) and travels ``displacement_tol`` within the longest
-hold ``T = max_hold hold`` if ``epsilon > 2 displacement_tol / ((1 - c) g T^2)``: the bracket can
-sit above ``lambda*`` by at most that (``detection_lambda`` in the result).
+until the bracket ``lambda_stable < lambda* <= lambda_moving`` is ``step / 2^refinements``
+wide. A block just past its threshold by ``epsilon`` in ``lambda`` accelerates at about
+``a epsilon``, ``a = (1 - c) g / s`` with ``c`` the local damping and ``s`` the mass scaling;
+it is found moving if it is faster than ``speed_tol`` at the end of the hold and then travels
+the moving limit within the longest hold ``T = max_hold hold``: the bracket can sit above
+``lambda*`` by at most ``max(speed_tol / (a hold), 2 limit / (a T^2))`` (``detection_lambda``
+in the result). Mass scaling divides ``speed_tol`` by ``s`` (every motion under gravity is
+``s`` times slower).
 
 Load patterns (:class:`TiltingTable`, :class:`LiveLoadRamp`) say what ``lambda`` means:
 
@@ -38,11 +42,20 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Protocol
 
 import numpy as np
 
+from dem.estimate import ErrorBudget, Estimate, check_error_budget
+from dem.explicit.continuation import (
+    BUDGET_SOURCES,
+    RigidContinuation,
+    bracket_estimate,
+    rerun_source,
+    rigid_limit,
+)
+from dem.explicit.diagnosis import pair_forces
 from dem.explicit.model import ExplicitModel, require_free_block
 from dem.explicit.results import LateralResult
 from dem.explicit.settings import ExplicitSettings, RelaxationSettings
@@ -68,16 +81,33 @@ class MotionCriteria:
         ``|c - c_0| + R angle`` (the farthest point). Default 5e-2: above the elastic
         deflection of a load step (soft joints bend a 1 m wall by about 1 mm per step of 0.05,
         and it creeps on during the hold), so that a mechanism is told from deformation.
+    onset_fraction : float
+        ``onset_tol = onset_fraction size`` [m]; default 2e-3. A step whose largest block
+        displacement exceeds both ``onset_tol`` and ``onset_ratio`` times what the response
+        so far gives for its increment (the largest displacement per unit ``lambda`` of the
+        full stable steps before it, bisections aside: near collapse the response softens) is
+        a moving step even if the motion
+        stopped: a mechanism that formed and was then arrested by the blocks bearing on each
+        other after a finite rotation (two columns side by side tip about their own toes and
+        overlap by ``b (1 - cos theta)``), which the rigid-block methods, in small
+        displacements, count as the collapse.
+    onset_ratio : float
+        See ``onset_fraction``; default 10 (an elastic response grows smoothly from step to
+        step; a mechanism jumps by one to two orders of magnitude).
     """
 
     speed_fraction: float = 1e-3
     displacement_fraction: float = 5e-2
+    onset_fraction: float = 2e-3
+    onset_ratio: float = 10.0
 
     def __post_init__(self):
-        for name in ("speed_fraction", "displacement_fraction"):
+        for name in ("speed_fraction", "displacement_fraction", "onset_fraction"):
             value = getattr(self, name)
             if not (math.isfinite(value) and 0 < value < 1):
                 raise ValueError(f"MotionCriteria.{name} must be in (0, 1), got {value}")
+        if not (math.isfinite(self.onset_ratio) and self.onset_ratio > 1):
+            raise ValueError(f"MotionCriteria.onset_ratio must be > 1, got {self.onset_ratio}")
 
 
 @dataclass(frozen=True)
@@ -98,7 +128,15 @@ class _Schedule:
     max_lambda : float
         Stop without collapse at this multiplier; default 1.
     refinements : int
-        Halvings of the step after the first moving one; default 4.
+        The bracket is bisected until it is ``step / 2^refinements`` wide; default 4.
+    start : float
+        First multiplier held [-], reached by one ramp at the rate ``step / ramp``; the steps
+        of ``step`` go on from it. Default 0 (steps from 0). A warm start below a collapse
+        multiplier known from a softer run of the same scene (the rigid-limit continuation)
+        skips the steps far from collapse.
+    develop : bool
+        Follow the motion at ``lambda_moving`` to confirm the mechanism (default True; the
+        runs of an error estimate, which only need the bracket, skip it).
     criteria : MotionCriteria
     """
 
@@ -108,6 +146,8 @@ class _Schedule:
     max_hold: float = 8.0
     max_lambda: float = 1.0
     refinements: int = 4
+    start: float = 0.0
+    develop: bool = True
     criteria: MotionCriteria = MotionCriteria()
 
     def __post_init__(self):
@@ -123,6 +163,8 @@ class _Schedule:
             raise ValueError(f"max_hold must be >= 1 (a multiple of hold), got {self.max_hold}")
         if int(self.refinements) != self.refinements or self.refinements < 0:
             raise ValueError(f"refinements must be an integer >= 0, got {self.refinements}")
+        if not (math.isfinite(self.start) and 0 <= self.start < self.max_lambda):
+            raise ValueError(f"start must be in [0, max_lambda), got {self.start}")
 
 
 class LoadPattern(Protocol):
@@ -213,8 +255,11 @@ def simulate_lateral(
     settings: ExplicitSettings | None = None,
     driver: TiltingTable | LiveLoadRamp | None = None,
     relaxation: RelaxationSettings | None = None,
+    error: ErrorBudget = "none",
+    continuation: RigidContinuation | None = None,
 ) -> LateralResult:
-    """Relax a scene, then raise a lateral load in ramp-and-hold steps until blocks move.
+    """Relax a scene, then raise a lateral load in ramp-and-hold steps until blocks move;
+    optionally estimate the multiplier's error and continue it to rigid blocks.
 
     Parameters
     ----------
@@ -226,11 +271,21 @@ def simulate_lateral(
     driver : TiltingTable or LiveLoadRamp, optional
         Default ``TiltingTable()``.
     relaxation : RelaxationSettings, optional
+    error : {"none", "cheap", "full"}
+        What ``result.estimate`` measures beyond the bracket (:mod:`dem.explicit.continuation`):
+        ``"none"`` nothing (an unknown bar), ``"cheap"`` the loading rate (one more run at
+        half the rate, started just below the bracket), ``"full"`` also the time step and the
+        node spacing (a run each at half of it).
+    continuation : RigidContinuation, optional
+        Also run at stiffer joints and extrapolate to rigid blocks (``result.rigid``,
+        ``result.levels``).
 
     Returns
     -------
     LateralResult
-        ``collapsed`` is True only if a moving step was found below ``max_lambda``.
+        ``collapsed`` is True only if a moving step was found below ``max_lambda``;
+        ``estimate`` the collapse multiplier at the material stiffness with its error,
+        ``rigid`` its rigid limit (None without a collapse or a continuation).
 
     Raises
     ------
@@ -241,28 +296,60 @@ def simulate_lateral(
         A block or group of blocks has no support (named), or the run blew up.
     """
     wall0 = time.perf_counter()
+    check_error_budget(error)
     driver = driver or TiltingTable()
     # refuse a scene with nothing to move or that the driver cannot load before building a model
     require_free_block(scene)
-    wrench0 = driver.wrench(scene, 0.0)
+    driver.wrench(scene, 0.0)
     settings = settings or masonry_settings(scene)
     relaxation = relaxation or RelaxationSettings(max_steps=400000)
+
+    def run(settings_, driver_):
+        return _run_once(scene, settings_, driver_, relaxation)
+
+    result = run(settings, driver)
+    material = bracket_estimate(result)
+    if material is None:
+        return result
+    if error == "none":
+        material = Estimate.unknown(material.value, "error budget 'none'")
+    for name in BUDGET_SOURCES[error]:
+        width, cost = rerun_source(run, settings, driver, result, name)
+        material = material.with_source(name, width, cost)
+    rigid, levels = None, []
+    if continuation is not None:
+        rigid, levels = rigid_limit(run, settings, driver, result, material, continuation)
+    return replace(result, estimate=material, rigid=rigid, levels=levels,
+                   wall_s=time.perf_counter() - wall0)  # fmt: skip
+
+
+def _run_once(scene: Scene, settings: ExplicitSettings, driver, relaxation) -> LateralResult:
+    """One run of :func:`simulate_lateral` (no error estimate)."""
+    wall0 = time.perf_counter()
+    wrench0 = driver.wrench(scene, 0.0)
     model = ExplicitModel(scene, settings)
     model.set_external_wrench(wrench0)
     relax_info = model.relax(relaxation)
     run = _RampHold(model, driver, scene)
     outcome = run.to_collapse()
+    model.restore(outcome["state_stable"])
+    at_rest = pair_forces(model)
+    width = outcome["lambda_moving"] - outcome["lambda_stable"]
+    if not math.isfinite(width):
+        width = driver.step / 2**driver.refinements
     return LateralResult(
         collapsed=outcome["collapsed"],
         lambda_stable=outcome["lambda_stable"],
         lambda_moving=outcome["lambda_moving"],
         moving_blocks=outcome["moving_blocks"],
         mechanism_confirmed=outcome["mechanism_confirmed"],
+        arrested=outcome["arrested"],
+        contacts_at_rest=at_rest,
         record_lambda=np.asarray(run.rec_lambda),
         record_displacement=np.asarray(run.rec_disp),
         record_time=np.asarray(run.rec_time),
         record_stable=np.asarray(run.rec_stable, dtype=bool),
-        detection_lambda=run.detection_lambda,
+        detection_lambda=run.detection_lambda(width),
         speed_tol=run.speed_tol,
         displacement_tol=run.disp_tol,
         wall_s=time.perf_counter() - wall0,
@@ -293,34 +380,55 @@ class _RampHold:
         g = float(np.linalg.norm(scene.loads.gravity)) or 9.81
         size = float(np.median(np.cbrt(scene.assembly.volume[free])))
         crit = driver.criteria
-        self.speed_tol = crit.speed_fraction * math.sqrt(g * size)
+        # inertial masses scaled by s slow every motion under gravity by s
+        scaling = model.settings.mass_scaling
+        self.speed_tol = crit.speed_fraction * math.sqrt(g * size) / scaling
         self.disp_tol = crit.displacement_fraction * size
+        self.onset_tol = crit.onset_fraction * size
+        self.compliance = 0.0  # largest displacement per unit lambda of the stable steps [m]
         self.hold = driver.hold if driver.hold is not None else 2.0 * math.sqrt(size / g)
         self.ramp = driver.ramp if driver.ramp is not None else self.hold
-        # near the threshold a block accelerates at (1 - local damping) g epsilon
-        slowed = 1.0 - model.settings.local_damping
-        longest = driver.max_hold * self.hold
-        self.detection_lambda = 2.0 * self.disp_tol / (slowed * g * longest**2)
+        # near the threshold a block accelerates at (1 - local damping) g epsilon / s
+        self.accel = (1.0 - model.settings.local_damping) * g / scaling
         self.ref_pos = model.pos.copy()
         self.ref_quat = model.quat.copy()
         self.rec_lambda, self.rec_disp, self.rec_time, self.rec_stable = [], [], [], []
         self.steps = 0
 
+    def detection_lambda(self, width: float) -> float:
+        """Largest overshoot of the bracket above the threshold that the criteria allow
+        (module docstring): a block past it by ``epsilon`` accelerates at ``a epsilon``
+        (``a = (1 - c) g / s``); it is still slower than ``speed_tol`` at the end of a hold if
+        ``epsilon < speed_tol / (a hold)``, and it moves the onset limit (for a bracket of
+        ``width``) within the longest hold ``T`` if ``epsilon > 2 limit / (a T^2)``: the
+        larger of the two."""
+        longest = self.driver.max_hold * self.hold
+        limit = self.disp_tol
+        if self.compliance > 0.0:
+            onset = max(self.onset_tol, self.driver.criteria.onset_ratio * self.compliance * width)
+            limit = min(limit, onset)
+        return max(
+            self.speed_tol / (self.accel * self.hold), 2.0 * limit / (self.accel * longest**2)
+        )
+
     def to_collapse(self) -> dict:
         """Step ``lambda`` up to the first moving step, then bisect the bracket."""
         driver = self.driver
-        lam, n_stable, halvings = 0.0, 0, 0
+        lam, n_stable = 0.0, 0
+        width = driver.step / 2**driver.refinements
         lam_moving, moving_blocks = math.nan, np.zeros(0, dtype=np.int64)
         saved = self.model.snapshot()
         while True:
             if math.isnan(lam_moving):
-                target = min(driver.step * (n_stable + 1), driver.max_lambda)
-            elif halvings < driver.refinements:
-                halvings += 1
+                base = driver.start if driver.start > 0 else driver.step
+                target = min(base + driver.step * n_stable, driver.max_lambda)
+            elif lam_moving - lam > width * (1 + 1e-9):
                 target = 0.5 * (lam + lam_moving)
             else:
                 break
             stable, moving = self._step(lam, target)
+            if stable:
+                stable, moving = self._onset(target - lam)
             self._record(target, stable)
             if stable:
                 lam, n_stable = target, n_stable + 1
@@ -330,23 +438,44 @@ class _RampHold:
                     break
             else:
                 lam_moving, moving_blocks = target, moving
-                if halvings < driver.refinements:
+                if lam_moving - lam > width * (1 + 1e-9):
                     self.model.restore(saved)
-        confirmed = False
-        if math.isfinite(lam_moving):
-            moving_blocks, confirmed = self._develop(lam, lam_moving, redo=stable)
+        confirmed = arrested = False
+        if math.isfinite(lam_moving) and driver.develop:
+            moving_blocks, confirmed, arrested = self._develop(lam, lam_moving, redo=stable)
         return {
             "mechanism_confirmed": confirmed,
+            "arrested": arrested,
             "collapsed": math.isfinite(lam_moving),
             "lambda_stable": lam,
             "lambda_moving": lam_moving,
             "moving_blocks": moving_blocks,
+            "state_stable": saved,
         }
 
-    def _develop(self, lam: float, lam_moving: float, redo: bool) -> tuple[np.ndarray, bool]:
+    def _onset(self, increment: float) -> tuple[bool, np.ndarray]:
+        """Whether a step that came to rest moved as a mechanism that was arrested
+        (:class:`MotionCriteria` ``onset_fraction``): (stable, moving blocks). Updates the
+        stiffest response of the stable steps."""
+        start_pos, start_quat = self.step_start
+        disp = self.model.block_displacement(start_pos, start_quat)
+        limit = max(self.onset_tol, self.driver.criteria.onset_ratio * self.compliance * increment)
+        if self.compliance > 0.0 and disp.max() > limit:
+            logger.info("a step of %.4g moved blocks by %.3g m, %.3g times the stiffest "
+                        "response so far: a mechanism that was arrested", increment,
+                        disp.max(), disp.max() / (self.compliance * increment))  # fmt: skip
+            return False, np.flatnonzero(disp > limit).astype(np.int64)
+        if increment >= self.driver.step * (1 - 1e-9):  # a full step, not a bisection
+            self.compliance = max(self.compliance, disp.max() / increment)
+        return True, np.zeros(0, dtype=np.int64)
+
+    def _develop(self, lam: float, lam_moving: float, redo: bool) -> tuple[np.ndarray, bool, bool]:
         """Follow the motion at ``lam_moving`` until a block has moved ``DEVELOP_FACTOR``
-        displacement thresholds (at most ``2 max_hold`` holds); returns the
-        blocks that moved more than the threshold or still move faster than ``speed_tol``.
+        displacement thresholds (at most ``2 max_hold`` holds); returns the blocks that moved
+        more than the threshold (the onset limit for an arrested mechanism) or still move
+        faster than ``speed_tol``, whether the mechanism is confirmed (the motion grew, or it
+        jumped past the onset limit of :meth:`_onset` again and stopped: arrested) and
+        whether it was arrested.
 
         ``redo``: the model is at the last stable step, so ramp to ``lam_moving`` again first.
         """
@@ -363,21 +492,33 @@ class _RampHold:
             done += n_check
             disp = model.block_displacement(start_pos, start_quat)
         self._record(lam_moving, False)
-        moving = (disp > self.disp_tol) | (model.block_speed() > self.speed_tol)
-        confirmed = bool(disp.max() >= DEVELOP_FACTOR * self.disp_tol)
-        if not confirmed:
+        grew = bool(disp.max() >= DEVELOP_FACTOR * self.disp_tol)
+        onset = max(
+            self.onset_tol, self.driver.criteria.onset_ratio * self.compliance * (lam_moving - lam)
+        )
+        arrested = not grew and self.compliance > 0.0 and bool(disp.max() > onset)
+        moving = (disp > (onset if arrested else self.disp_tol)) | (
+            model.block_speed() > self.speed_tol
+        )
+        if arrested:
+            logger.info(
+                "lambda=%.4g: the mechanism stopped after %.3g m (blocks bearing on each other "
+                "after finite rotations): arrested", lam_moving, disp.max(),
+            )  # fmt: skip
+        elif not grew:
             logger.warning(
                 "lambda=%.4g: no block moved %g displacement thresholds while the motion was "
                 "followed; the mechanism is not confirmed", lam_moving, DEVELOP_FACTOR,
             )  # fmt: skip
-        return np.flatnonzero(moving).astype(np.int64), confirmed
+        return np.flatnonzero(moving).astype(np.int64), grew or arrested, arrested
 
     def _step(self, lam0: float, lam1: float) -> tuple[bool, np.ndarray]:
         """Ramp from ``lam0`` to ``lam1`` and hold; (stable, moving blocks)."""
         model = self.model
         start_pos, start_quat = model.pos.copy(), model.quat.copy()
         self.step_start = (start_pos, start_quat)
-        n_ramp = max(1, round(self.ramp / model.dt))
+        # the rate of a step of ``step`` over ``ramp``, and never faster (the warm start)
+        n_ramp = max(1, round(self.ramp * max(1.0, (lam1 - lam0) / self.driver.step) / model.dt))
         chunk = max(1, min(model.settings.chunk_steps, n_ramp))
         done = 0
         while done < n_ramp:

@@ -149,6 +149,9 @@ class ExplicitModel:
             np.ascontiguousarray(self.nodes.normal),
             self.nodes.area,
             np.ascontiguousarray(self.nodes.weight),
+            np.ascontiguousarray(self.nodes.patch_centre - ref[self.nodes.block]),
+            np.ascontiguousarray(self.nodes.patch_u),
+            np.ascontiguousarray(self.nodes.patch_v),
         )
         k = len(self.nodes.indenter_block)
         self.indenter = Indenter(

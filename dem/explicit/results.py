@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from dem.estimate import Estimate
     from dem.explicit.model import ExplicitModel
 
 PEAK_DROP_FRACTION = 0.85
@@ -70,6 +71,52 @@ class IndentationResult:
     info: dict = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class PairForces:
+    """Resultant contact force of each pair of blocks in contact at one state.
+
+    Attributes
+    ----------
+    pairs : (p, 2) int64
+        ``(i, j)`` with ``i < j``.
+    force : (p, 3) float
+        Resultant force on block ``i`` from block ``j`` [N].
+    point : (p, 3) float
+        Force-weighted mean of the nodal points [m].
+    gap : (p,) float
+        Separation of the two blocks in the reference configuration along their face
+        normals [m] (0 when they touch).
+    interface : (p,) bool
+        The two blocks share a face interface in the reference configuration (what the
+        static DEM and the limit analysis model).
+    """
+
+    pairs: np.ndarray
+    force: np.ndarray
+    point: np.ndarray
+    gap: np.ndarray
+    interface: np.ndarray
+
+    def ranked(self) -> np.ndarray:
+        """Indices of the pairs: those without a face interface first, then by force."""
+        magnitude = np.linalg.norm(self.force, axis=1)
+        return np.lexsort((-magnitude, self.interface))
+
+    def describe(self, limit: int = 5) -> str:
+        """The first ``limit`` pairs of :meth:`ranked` in words, e.g. ``blocks 2-4 (no face
+        interface, gap 0 mm, 141 N)``."""
+        parts = []
+        for k in self.ranked()[:limit]:
+            i, j = self.pairs[k]
+            kind = "face interface" if self.interface[k] else "no face interface"
+            parts.append(
+                f"blocks {i}-{j} ({kind}, gap {self.gap[k] * 1e3:.3g} mm, "
+                f"{np.linalg.norm(self.force[k]):.3g} N)"
+            )
+        more = len(self.pairs) - limit
+        return "; ".join(parts) + (f"; and {more} more" if more > 0 else "")
+
+
 @dataclass(frozen=True, eq=False)
 class LateralResult:
     """Outcome of :func:`dem.explicit.simulate_lateral`.
@@ -86,9 +133,27 @@ class LateralResult:
         Blocks moving at ``lambda_moving`` once the motion was followed (displaced more than
         ``displacement_tol`` or faster than ``speed_tol``).
     mechanism_confirmed : bool
-        The motion at ``lambda_moving`` grew to several displacement thresholds when followed
-        (False: a slow motion that may still stop; ``lambda_moving`` is then an upper end
-        found by speed alone).
+        The motion at ``lambda_moving`` grew to several displacement thresholds when followed,
+        or it jumped far past the elastic response and stopped (``arrested``). False: a slow
+        motion that may still stop; ``lambda_moving`` is then an upper end found by speed
+        alone.
+    arrested : bool
+        The mechanism formed at ``lambda_moving`` and stopped after a finite motion (blocks
+        bearing on each other after finite rotations, e.g. columns side by side): the collapse
+        of the rigid-block methods, in small displacements; the structure may carry more with
+        its deformed geometry.
+    contacts_at_rest : PairForces or None
+        The pairs of blocks in contact at the last state at rest (``lambda_stable``), with
+        their forces, reference gaps and whether they share a face interface
+        (:func:`dem.explicit.diagnosis.pair_forces`).
+    estimate : Estimate or None
+        The collapse multiplier at the material stiffness with its error (the bracket, and
+        what the error budget measured: loading rate, time step, node spacing); None without
+        a collapse.
+    rigid : Estimate or None
+        Its continuation to rigid joints (:func:`dem.explicit.continuation.rigid_limit`).
+    levels : list of dict
+        The runs of the continuation, the material stiffness first.
     record_lambda : (r,) float
         Multiplier at the end of each ramp-and-hold step, in the order run (bisection trials
         included).
@@ -127,6 +192,11 @@ class LateralResult:
     settings: dict
     driver: dict
     info: dict = field(default_factory=dict)
+    arrested: bool = False
+    contacts_at_rest: PairForces | None = None
+    estimate: Estimate | None = None
+    rigid: Estimate | None = None
+    levels: list = field(default_factory=list)
 
 
 def curve_summary(

@@ -106,6 +106,10 @@ class Nodes(NamedTuple):
         Tributary area [m^2].
     weight : (n, n) float64
         Counting weight of nodes of block ``a`` against block ``b`` (1, 1/2 or 0).
+    patch_r0, patch_u, patch_v : (n_nodes, 3) float64
+        The box of face each node stands for (:func:`dem.contact_nodes.node_patches`): centre
+        as an offset from the owner's centroid [m] and half sides along the face's axes [m],
+        reference frame.
     """
 
     block: np.ndarray
@@ -113,6 +117,9 @@ class Nodes(NamedTuple):
     n0: np.ndarray
     area: np.ndarray
     weight: np.ndarray
+    patch_r0: np.ndarray
+    patch_u: np.ndarray
+    patch_v: np.ndarray
 
 
 class Law(NamedTuple):

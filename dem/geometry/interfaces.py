@@ -275,8 +275,7 @@ def _rectangle_turn(poly: np.ndarray, area: float, rel_tol: float = 1e-6) -> np.
     The frame follows the global axes (:func:`plane_basis`), so the joints of a wall built
     along a diagonal are turned rectangles in it; the laws that take a rectangle's sides along
     ``t1, t2`` (the fibre grid with springs on the edges, the resultant law's reduced
-    rectangle) then saw their bounding box: an arch turned 30 degrees about z collapsed 2 %
-    lower with the fibre law.
+    rectangle) would otherwise work on its bounding box.
     """
     size = np.ptp(poly, axis=0)
     if abs(size[0] * size[1] - area) <= rel_tol * area:

@@ -35,10 +35,10 @@ Separated entries are skipped while they cannot touch. With face planes, a node 
 distance ``phi > 0`` outside ``b`` must move by at least ``phi`` relative to ``b`` before it
 can penetrate. ``drift[k]`` accumulates a bound on how far any point of block ``k`` within the
 list's reach has moved (:func:`dem.kernels.integrate.run_steps`); an entry found separated
-stores ``skip_gap = phi`` (compatible plane: half of ``max(0, delta) - d_c``, which changes at
-most twice as fast as the node moves) and ``skip_drift = drift[a] + drift[b]`` and is not
-evaluated again until ``drift[a] + drift[b] - skip_drift >= skip_gap``. Its force and shear
-history are zero meanwhile, as an evaluation would give: the result is exactly that of
+stores ``skip_gap = phi`` (compatible plane: the bound of :func:`_compatible_plane`) and
+``skip_drift = drift[a] + drift[b]`` and is not evaluated again until
+``drift[a] + drift[b] - skip_drift >= skip_gap``. Its force and shear history are zero
+meanwhile, as an evaluation would give: the result is exactly that of
 evaluating every entry (its ``out_depth`` and ``out_point`` keep the last evaluated values).
 Level sets are not a distance bound: no skipping there.
 
@@ -243,6 +243,7 @@ def contact_entries(e_begin, e_end, model, state, dt, scratch, pairs, record, su
     contacts, motion = state
     pair_node, pair_weight, pair_shear = contacts.node, contacts.weight, contacts.shear
     node_r0, node_n0, node_area = nodes.r0, nodes.n0, nodes.area
+    patch_r0, patch_u, patch_v = nodes.patch_r0, nodes.patch_u, nodes.patch_v
     rot, drift, out_depth = scratch.rot, scratch.drift, scratch.out_depth
     skip_gap, skip_drift, use_level_set = scratch.skip_gap, scratch.skip_drift, shapes.use_level_set
     run_ptr, near_faces, face_v, face_d, face_u = (
@@ -270,7 +271,13 @@ def contact_entries(e_begin, e_end, model, state, dt, scratch, pairs, record, su
             else:
                 if law.compat_cos <= 1.0:
                     m = (node_n0[i, 0], node_n0[i, 1], node_n0[i, 2])
-                    phi, f_c, bound = _compatible_plane(r0, m, face_v, face_d, faces, law)
+                    patch = (
+                        (patch_r0[i, 0], patch_r0[i, 1], patch_r0[i, 2]),
+                        (patch_u[i, 0], patch_u[i, 1], patch_u[i, 2]),
+                        (patch_v[i, 0], patch_v[i, 1], patch_v[i, 2]),
+                    )
+                    phi, f_c, bound = _compatible_plane(r0, m, patch, face_v, face_d, faces,
+                                                        law)  # fmt: skip
                     f = np.uint64(f_c)
                 elif near_faces[e, 0] >= 0:
                     f = np.uint64(faces[0] + near_faces[e, 0])
@@ -403,43 +410,68 @@ def _level_set_plane(r0, q, b, to_b, shift, rot, shapes):
 
 
 @njit(cache=True)
-def _compatible_plane(r0, m, face_v, face_d, faces, law):
+def _compatible_plane(r0, m, patch, face_v, face_d, faces, law):
     """Plane distance [m], face row and skip bound [m] of a node against the
     normal-compatible plane.
 
     Rows ``faces = (begin, end)`` of the pair's ``face_v`` (f, 3) and ``face_d`` (f,) [m];
-    ``r0`` the node and ``m`` its face normal, both in its block's reference frame. The node
-    takes its normal from the nearest plane among ``b``'s faces whose normal is within
-    ``acos(law.compat_cos)`` of ``-m``, and the penetration ``d_c`` below that plane less
-    ``max(0, delta)``, ``delta`` the distance outside ``b``'s other face planes (the nearest
-    one, negative inside): full depth up to ``b``'s edges, going continuously to zero over an
-    overhang equal to the depth. A node more than ``law.margin`` [m] below that plane (or with
-    no such face) cannot have come in through it within a list period: it takes the nearest
-    plane (a node on the side face of a block standing on a longer block is on that block's
-    top plane and far below its end face).
+    ``r0`` the node, ``m`` its face normal and ``patch = (centre, half_u, half_v)`` the box of
+    face it stands for (:func:`dem.contact_nodes.node_patches`), all in its block's reference
+    frame. The node takes its normal from the nearest plane among ``b``'s faces whose normal
+    is within ``acos(law.compat_cos)`` of ``-m``, and as its depth the penetration ``d_c``
+    below that plane times the fraction of its patch that lies over ``b``: inside each of
+    ``b``'s other face planes (a box cut by a plane: linear in the distance ``delta`` of its
+    centre, from 1 at ``delta = -e`` to 0 at ``delta = e``, ``e`` the box's half extent along
+    the plane's normal; the fractions of the planes multiply, exact for a box in a corner
+    of right angles). So a node on an edge shared with an equal neighbour (a hinge) keeps its
+    full depth, half of a patch over a head joint counts half, and a patch beside ``b`` (a
+    block that only shares an edge line with ``b``, or stands a gap away from its side)
+    counts nothing, however deep ``d_c`` below the plane of ``b``'s face it lies.
+
+    A node more than ``law.margin`` [m] below that plane (or with no such face) cannot have
+    come in through it within a list period: it takes the nearest plane (a node on the side
+    face of a block standing on a longer block is on that block's top plane and far below its
+    end face).
+
+    The bound: contact needs ``d_c > 0`` and every plane's ``delta < e``, and the
+    nearest-plane depth needs the same (the node is a point of its patch), so the largest of
+    ``-d_c`` and ``delta - e`` over the planes bounds the motion to contact (each is the
+    distance of a point of the patch to a plane).
     """
     r0x, r0y, r0z = r0
     m0, m1, m2 = m
+    (c0, c1, c2), (u0, u1, u2), (v0, v1, v2) = patch
     compat_cos = law.compat_cos
     best_c = -math.inf
     best_o = -math.inf
+    outside = -math.inf  # largest delta - e over the other planes
+    fraction = 1.0
     f_c = -1
     f_o = faces[0]
     for g in range(faces[0], faces[1]):
-        dist = face_v[g, 0] * r0x + face_v[g, 1] * r0y + face_v[g, 2] * r0z - face_d[g]
-        c = face_v[g, 0] * m0 + face_v[g, 1] * m1 + face_v[g, 2] * m2
+        n0, n1, n2 = face_v[g, 0], face_v[g, 1], face_v[g, 2]
+        dist = n0 * r0x + n1 * r0y + n2 * r0z - face_d[g]
+        c = n0 * m0 + n1 * m1 + n2 * m2
         if c <= -compat_cos:
             if dist > best_c:
                 best_c = dist
                 f_c = g
-        elif dist > best_o:
+            continue
+        if dist > best_o:
             best_o = dist
             f_o = g
-    # contact in either case needs best_c + max(best_o, 0) < 0, a 2-Lipschitz function of the
-    # node's position: half of it bounds the motion to contact
-    bound = 0.5 * (best_c + max(best_o, 0.0)) if f_c >= 0 else best_o
+        delta = n0 * c0 + n1 * c1 + n2 * c2 - face_d[g]
+        extent = abs(n0 * u0 + n1 * u1 + n2 * u2) + abs(n0 * v0 + n1 * v1 + n2 * v2)
+        outside = max(outside, delta - extent)
+        if delta >= extent:
+            fraction = 0.0
+        elif delta > -extent:
+            fraction *= 0.5 * (extent - delta) / extent
+    bound = max(best_c, outside) if f_c >= 0 else best_o
     if best_c >= -law.margin:
-        return best_c + max(best_o, 0.0), f_c, bound
+        if fraction == 0.0:
+            return max(best_c, 0.0), f_c, bound  # the patch lies beside b: no contact
+        return best_c * fraction, f_c, bound
     if best_c > best_o:
         return best_c, f_c, bound
     return best_o, f_o, bound

@@ -31,17 +31,19 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from dem.geometry.polyhedron import convex_block
-from dem.scene import Assembly, Loads, Scene, Supports, check_finite, proportional_to_weight
+from dem.scene import Loads, Scene, Supports, check_finite, proportional_to_weight
 from dem.scenes.running_bond_wall import (
     beam_load_wrench,
     box_corners,
     check_sides,
     check_wall_numbers,
+    course_spans,
     cut_openings,
     parse_openings,
+    wall_assembly,
+    wall_meta,
 )
-from dem.units import KN_M3, MM, G
+from dem.units import MM, G
 
 SIDES = ("left", "right")
 WALL_MAIN, WALL_LEFT, WALL_RIGHT, WALL_BASE = 0, 1, 2, -1
@@ -95,6 +97,41 @@ def wall_with_returns(
     check_wall_numbers(
         n_per_course, n_courses, a_mm, b_mm, s_mm, unit_weight_kn_m3, openings_mm, beam_loads_kn
     )
+    n, nc, nr = _checked_options(n_per_course, n_courses, return_blocks, returns, b_mm, s_mm)
+    a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
+    # openings keep clear of the corners, where the return walls bond in
+    openings = parse_openings(openings_mm, a, (b, n * b - b), nc * a)
+    corners, course, wall = _main_wall(n, nc, a, b, s, openings, returns)
+    y_min = -s / 2 - nr * b
+    for side in returns:
+        blocks = _return_wall(side, nc, nr, a, b, s, n * b)
+        corners += [c for c, _ in blocks]
+        course += [k for _, k in blocks]
+        wall += [WALL_LEFT if side == "left" else WALL_RIGHT] * len(blocks)
+    corners.append(box_corners(0.0, n * b, y_min, s / 2, -a, 0.0))
+    course.append(-1)
+    wall.append(WALL_BASE)
+    assembly = wall_assembly(corners, unit_weight_kn_m3, mu)
+    wall_arr = np.array(wall)
+    fixed = wall_arr == WALL_BASE
+    supports = Supports(fixed, np.zeros((assembly.n_blocks, 6), dtype=bool))
+    live = proportional_to_weight(assembly, (0.0, 1.0, 0.0))
+    live[fixed] = 0.0
+    top = np.flatnonzero((np.array(course) == nc - 1) & (wall_arr == WALL_MAIN))
+    dead = beam_load_wrench(assembly, top, beam_loads_kn)
+    loads = Loads(np.array([0.0, 0.0, -G]), dead, live)
+    options = {"returns": list(returns), "return_blocks": nr, "return_thickness_mm": b / 2 / MM}
+    numbers = (n, nc, a_mm, b_mm, s_mm, unit_weight_kn_m3)
+    loads_meta = (openings_mm, beam_loads_kn, "weight")
+    meta = wall_meta("wall_with_returns", numbers, options, loads_meta, course)
+    meta["wall"] = wall
+    return Scene(assembly, supports, loads, name, meta)
+
+
+def _checked_options(n_per_course, n_courses, return_blocks, returns, b_mm, s_mm):
+    """The block counts as integers, after a ``ValueError`` unless n_per_course >= 2,
+    n_courses >= 1 and return_blocks >= 1 are whole numbers, ``returns`` names one or both
+    sides and the blocks are longer than thick (the corner bond needs s < b)."""
     check_finite(return_blocks=return_blocks)
     n, nc, nr = int(n_per_course), int(n_courses), int(return_blocks)
     if n != n_per_course or n < 2 or nc != n_courses or nc < 1:
@@ -107,80 +144,38 @@ def wall_with_returns(
     check_sides("returns", returns, SIDES)
     if not returns:
         raise ValueError(f"returns must be a non-empty subset of {SIDES}, got {list(returns)}")
-    a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
-    if s >= b:
+    if s_mm * MM >= b_mm * MM:
         raise ValueError(f"the corner bond needs s < b, got s = {s_mm} mm, b = {b_mm} mm")
-    length, height = n * b, nc * a
-    half = b / 2
-    # openings keep clear of the corners, where the return walls bond in
-    openings = parse_openings(openings_mm, a, (b, length - b), height)
+    return n, nc, nr
 
-    tiny = 1e-9 * b
-    corners, course, wall = [], [], []
+
+def _main_wall(n, nc, a, b, s, openings, returns):
+    """Corners (8, 3) [m], courses and wall labels of the main wall's blocks; in odd courses
+    the return walls' end blocks take the place of the half blocks at their corners."""
+    corners, course = [], []
     for k in range(nc):
-        z0, z1 = k * a, (k + 1) * a
-        if k % 2 == 0:
-            spans = [(i * b, (i + 1) * b) for i in range(n)]
-        else:
-            edges = [0.0] + [half + i * b for i in range(n)] + [length]
-            spans = list(zip(edges[:-1], edges[1:], strict=True))
-            # the half blocks at the corners are replaced by the return walls' end blocks
-            if "left" in returns:
-                spans = spans[1:]
-            if "right" in returns:
-                spans = spans[:-1]
-        spans = cut_openings(spans, k, openings, tiny)
-        for xl, xr in spans:
-            corners.append(box_corners(xl, xr, -s / 2, s / 2, z0, z1))
+        spans = course_spans(n, b, k)
+        if k % 2 == 1:
+            spans = spans[1:] if "left" in returns else spans
+            spans = spans[:-1] if "right" in returns else spans
+        for xl, xr in cut_openings(spans, k, openings, 1e-9 * b):
+            corners.append(box_corners(xl, xr, -s / 2, s / 2, k * a, (k + 1) * a))
             course.append(k)
-            wall.append(WALL_MAIN)
-    y_min = -s / 2 - nr * b
-    for side in returns:
-        xl, xr = (0.0, half) if side == "left" else (length - half, length)
-        label = WALL_LEFT if side == "left" else WALL_RIGHT
-        for k in range(nc):
-            z0, z1 = k * a, (k + 1) * a
-            if k % 2 == 0:
-                edges = [-s / 2 - i * b for i in range(nr + 1)]
-            else:
-                # a closer of length s ends the course flush with the even ones
-                edges = [s / 2 - i * b for i in range(nr + 1)] + [y_min]
-            for y_hi, y_lo in zip(edges[:-1], edges[1:], strict=True):
-                corners.append(box_corners(xl, xr, y_lo, y_hi, z0, z1))
-                course.append(k)
-                wall.append(label)
-    n_wall = len(corners)
-    corners.append(box_corners(0.0, length, y_min, s / 2, -a, 0.0))
-    course.append(-1)
-    wall.append(WALL_BASE)
+    return corners, course, [WALL_MAIN] * len(corners)
 
-    density = unit_weight_kn_m3 * KN_M3 / G
-    assembly = Assembly(tuple(convex_block(c) for c in corners), density, mu)
-    n_blocks = assembly.n_blocks
-    fixed = np.zeros(n_blocks, dtype=bool)
-    fixed[n_wall] = True
-    supports = Supports(fixed, np.zeros((n_blocks, 6), dtype=bool))
-    live = proportional_to_weight(assembly, (0.0, 1.0, 0.0))
-    live[fixed] = 0.0
-    course_arr, wall_arr = np.array(course), np.array(wall)
-    top = np.flatnonzero((course_arr == nc - 1) & (wall_arr == WALL_MAIN))
-    dead = beam_load_wrench(assembly, top, beam_loads_kn)
-    loads = Loads(np.array([0.0, 0.0, -G]), dead, live)
-    meta = {
-        "builder": "wall_with_returns",
-        "n_per_course": n,
-        "n_courses": nc,
-        "a_mm": a_mm,
-        "b_mm": b_mm,
-        "s_mm": s_mm,
-        "unit_weight_kn_m3": unit_weight_kn_m3,
-        "returns": list(returns),
-        "return_blocks": nr,
-        "return_thickness_mm": half / MM,
-        "openings_mm": [list(o) for o in openings_mm],
-        "beam_loads_kn": [list(p) for p in beam_loads_kn],
-        "live": "weight",
-        "course": course,
-        "wall": wall,
-    }
-    return Scene(assembly, supports, loads, name, meta)
+
+def _return_wall(side: str, nc: int, nr: int, a: float, b: float, s: float, length: float):
+    """(corners (8, 3) [m], course) of the blocks of the return wall at ``side``, course by
+    course: even courses start behind the main wall's end block, odd ones cover the corner
+    and end with a closer of length s, flush with the even ones."""
+    xl, xr = (0.0, b / 2) if side == "left" else (length - b / 2, length)
+    y_min = -s / 2 - nr * b
+    out = []
+    for k in range(nc):
+        if k % 2 == 0:
+            edges = [-s / 2 - i * b for i in range(nr + 1)]
+        else:
+            edges = [s / 2 - i * b for i in range(nr + 1)] + [y_min]
+        for y_hi, y_lo in zip(edges[:-1], edges[1:], strict=True):
+            out.append((box_corners(xl, xr, y_lo, y_hi, k * a, (k + 1) * a), k))
+    return out

@@ -157,6 +157,34 @@ def check_wall_numbers(
             raise ValueError(f"{label} must be positive and finite, got {v}")
 
 
+def wall_assembly(corners: list[np.ndarray], unit_weight_kn_m3: float, mu) -> Assembly:
+    """Blocks of the given (8, 3) corner arrays [m] with unit weight [kN/m^3] and friction."""
+    density = unit_weight_kn_m3 * KN_M3 / G
+    return Assembly(tuple(convex_block(c) for c in corners), density, mu)
+
+
+def wall_meta(builder: str, numbers: tuple, options: dict, loads: tuple, course: list) -> dict:
+    """A wall builder's ``meta``: its name, ``numbers`` (n_per_course, n_courses, a_mm, b_mm,
+    s_mm, unit_weight_kn_m3), its ``options``, ``loads`` (openings_mm, beam_loads_kn, live)
+    and the blocks' courses."""
+    n, nc, a_mm, b_mm, s_mm, unit_weight_kn_m3 = numbers
+    openings_mm, beam_loads_kn, live = loads
+    return {
+        "builder": builder,
+        "n_per_course": n,
+        "n_courses": nc,
+        "a_mm": a_mm,
+        "b_mm": b_mm,
+        "s_mm": s_mm,
+        "unit_weight_kn_m3": unit_weight_kn_m3,
+        **options,
+        "openings_mm": [list(o) for o in openings_mm],
+        "beam_loads_kn": [list(p) for p in beam_loads_kn],
+        "live": live,
+        "course": course,
+    }
+
+
 def running_bond_wall(
     n_per_course: int,
     n_courses: int,
@@ -213,6 +241,33 @@ def running_bond_wall(
     check_wall_numbers(
         n_per_course, n_courses, a_mm, b_mm, s_mm, unit_weight_kn_m3, openings_mm, beam_loads_kn
     )
+    n, nc = _checked_options(n_per_course, n_courses, fixed_columns, simply_supported, live)
+    a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
+    openings = parse_openings(openings_mm, a, (0.0, n * b), nc * a)
+    corners, course, ends = _wall_courses(n, nc, a, b, s, openings)
+    if base:
+        corners.append(box_corners(0.0, n * b, -s / 2, s / 2, -a, 0.0))
+        course.append(-1)
+    assembly = wall_assembly(corners, unit_weight_kn_m3, mu)
+    edge_blocks = _edge_blocks(np.array(course), ends, nc)
+    supports = _wall_supports(np.array(course) == -1, edge_blocks, fixed_columns, simply_supported)
+    dead = beam_load_wrench(assembly, edge_blocks["top"], beam_loads_kn)
+    live_wrench = _live_wrench(assembly, live, supports.fixed)
+    loads = Loads(np.array([0.0, 0.0, -G]), dead, live_wrench)
+    options = {
+        "base": base,
+        "fixed_columns": list(fixed_columns),
+        "simply_supported": list(simply_supported),
+    }
+    numbers = (n, nc, a_mm, b_mm, s_mm, unit_weight_kn_m3)
+    loads_meta = (openings_mm, beam_loads_kn, live)
+    meta = wall_meta("running_bond_wall", numbers, options, loads_meta, course)
+    return Scene(assembly, supports, loads, name, meta)
+
+
+def _checked_options(n_per_course, n_courses, fixed_columns, simply_supported, live):
+    """The block counts as integers, after a ``ValueError`` naming a count that is no positive
+    integer, an unknown side or live load."""
     n, nc = int(n_per_course), int(n_courses)
     if n != n_per_course or n < 1 or nc != n_courses or nc < 1:
         raise ValueError(
@@ -222,11 +277,12 @@ def running_bond_wall(
     check_sides("simply_supported", simply_supported, SIDES)
     if live not in LIVE_LOADS:
         raise ValueError(f"live must be one of {LIVE_LOADS}, got {live!r}")
+    return n, nc
 
-    a, b, s = a_mm * MM, b_mm * MM, s_mm * MM
-    length = n * b
-    openings = parse_openings(openings_mm, a, (0.0, length), nc * a)
 
+def _wall_courses(n: int, nc: int, a: float, b: float, s: float, openings: Sequence[Opening]):
+    """Corners (8, 3) [m] of the wall's blocks course by course from the left, their courses,
+    and each course's first and last block (None for a course the openings empty)."""
     corners, course, ends = [], [], []
     for k in range(nc):
         spans = cut_openings(course_spans(n, b, k), k, openings, 1e-9 * b)
@@ -235,59 +291,39 @@ def running_bond_wall(
             corners.append(box_corners(xl, xr, -s / 2, s / 2, k * a, (k + 1) * a))
             course.append(k)
         ends.append((first, len(corners) - 1) if spans else None)
-    n_wall = len(corners)
-    if base:
-        corners.append(box_corners(0.0, length, -s / 2, s / 2, -a, 0.0))
-        course.append(-1)
+    return corners, course, ends
 
-    density = unit_weight_kn_m3 * KN_M3 / G
-    assembly = Assembly(tuple(convex_block(c) for c in corners), density, mu)
-    n_blocks = assembly.n_blocks
-    fixed = np.zeros(n_blocks, dtype=bool)
-    restrained = np.zeros((n_blocks, 6), dtype=bool)
-    if base:
-        fixed[n_wall] = True
-    course_arr = np.array(course)
-    edge_blocks = {
-        "bottom": np.flatnonzero(course_arr == 0),
-        "top": np.flatnonzero(course_arr == nc - 1),
+
+def _edge_blocks(course: np.ndarray, ends: list, nc: int) -> dict[str, np.ndarray]:
+    """Blocks along each side of the wall: first and last course, end blocks of every course."""
+    return {
+        "bottom": np.flatnonzero(course == 0),
+        "top": np.flatnonzero(course == nc - 1),
         "left": np.array([e[0] for e in ends if e is not None]),
         "right": np.array([e[1] for e in ends if e is not None]),
     }
+
+
+def _wall_supports(foundation, edge_blocks: dict, fixed_columns, simply_supported) -> Supports:
+    """The foundation (bool mask) and the end columns ``fixed_columns`` fixed; ``uy``
+    restrained along the ``simply_supported`` edges (blocks of each side in ``edge_blocks``)."""
+    fixed = np.array(foundation, dtype=bool)
+    restrained = np.zeros((len(fixed), 6), dtype=bool)
     for side in fixed_columns:
         fixed[edge_blocks[side]] = True
     for side in simply_supported:
         restrained[edge_blocks[side], OUT_OF_PLANE] = True
     restrained[fixed] = False
-    supports = Supports(fixed, restrained)
+    return Supports(fixed, restrained)
 
-    free = np.flatnonzero(~fixed)
+
+def _live_wrench(assembly: Assembly, live: str, fixed: np.ndarray) -> np.ndarray:
+    """(n_blocks, 6) live pattern of :func:`running_bond_wall`, zero on fixed blocks."""
     if live == "weight":
-        live_wrench = proportional_to_weight(assembly, (0.0, 1.0, 0.0))
+        out = proportional_to_weight(assembly, (0.0, 1.0, 0.0))
     elif live == "pressure":
-        live_wrench = uniform_pressure(assembly, (0.0, 1.0, 0.0), free)
+        out = uniform_pressure(assembly, (0.0, 1.0, 0.0), np.flatnonzero(~fixed))
     else:
-        live_wrench = np.zeros((n_blocks, 6))
-    live_wrench[fixed] = 0.0
-
-    top = np.flatnonzero(course_arr == nc - 1)
-    dead = beam_load_wrench(assembly, top, beam_loads_kn)
-
-    loads = Loads(np.array([0.0, 0.0, -G]), dead, live_wrench)
-    meta = {
-        "builder": "running_bond_wall",
-        "n_per_course": n,
-        "n_courses": nc,
-        "a_mm": a_mm,
-        "b_mm": b_mm,
-        "s_mm": s_mm,
-        "unit_weight_kn_m3": unit_weight_kn_m3,
-        "base": base,
-        "fixed_columns": list(fixed_columns),
-        "simply_supported": list(simply_supported),
-        "openings_mm": [list(o) for o in openings_mm],
-        "beam_loads_kn": [list(p) for p in beam_loads_kn],
-        "live": live,
-        "course": course,
-    }
-    return Scene(assembly, supports, loads, name, meta)
+        out = np.zeros((assembly.n_blocks, 6))
+    out[fixed] = 0.0
+    return out

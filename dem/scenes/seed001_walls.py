@@ -298,34 +298,28 @@ def restrepo_specimen(
     if return_walls not in ("fixed_column", "blocks"):
         raise ValueError(f"return_walls must be 'fixed_column' or 'blocks', got {return_walls!r}")
     n, supports, _, _ = _RESTREPO[name]
-    a, b, s = RESTREPO_BLOCK_MM
-    openings = RESTREPO_OPENINGS_MM.get(name, ())
+    b = RESTREPO_BLOCK_MM[1]
+    wall = (n, RESTREPO_COURSES, *RESTREPO_BLOCK_MM)
     common = dict(unit_weight_kn_m3=RESTREPO_UNIT_WEIGHT, mu=RESTREPO_MU)
+    openings = RESTREPO_OPENINGS_MM.get(name, ())
     tag = f"restrepo_{name}_{return_walls}"
+    sides = ("left",) if supports == "left" else ("left", "right")
     if supports == "base+beams":
         beams = [((i + 0.5) * n * b / 11, RESTREPO_BEAM_FORCE_N * 1e-3) for i in range(11)]
         # The beams also hold the top course out of plane (assumed, see RESTREPO_S32_TOP)
+        top = ("top",) if RESTREPO_S32_TOP == "restrained" else ()
         scene = running_bond_wall(
-            n,
-            RESTREPO_COURSES,
-            a,
-            b,
-            s,
+            *wall,
             base=True,
             beam_loads_kn=beams,
-            simply_supported=("top",) if RESTREPO_S32_TOP == "restrained" else (),
+            simply_supported=top,
             live="weight",
             name=f"restrepo_{name}",
             **common,
         )
     elif return_walls == "fixed_column":
-        sides = ("left",) if supports == "left" else ("left", "right")
         scene = running_bond_wall(
-            n,
-            RESTREPO_COURSES,
-            a,
-            b,
-            s,
+            *wall,
             base=True,
             fixed_columns=sides,
             openings_mm=openings,
@@ -334,13 +328,8 @@ def restrepo_specimen(
             **common,
         )
     else:
-        sides = ("left",) if supports == "left" else ("left", "right")
         scene = wall_with_returns(
-            n,
-            RESTREPO_COURSES,
-            a,
-            b,
-            s,
+            *wall,
             returns=sides,
             return_blocks=return_blocks,
             openings_mm=openings,

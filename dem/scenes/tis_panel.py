@@ -85,6 +85,30 @@ def tis_panel(
         Blocks ordered row by row, ``index = j (n + 2) + i``; ``meta`` holds the grid position
         of each block and the paper-unit parameters.
     """
+    size, t, theta, side = _checked_panel(n, theta_deg, size_mm, thickness_mm, density)
+    blocks, grid = _panel_blocks(n, size, side, t, theta)
+    grid_arr = np.array(grid)
+    boundary = (grid_arr == 0).any(axis=1) | (grid_arr == n + 1).any(axis=1)
+    assembly = Assembly(tuple(blocks), density, mu)
+    supports = Supports.fixed_blocks(len(blocks), np.flatnonzero(boundary) if fix_boundary else [])
+    meta = {
+        "builder": "tis_panel",
+        "n": n,
+        "theta_deg": theta_deg,
+        "size_mm": size_mm,
+        "thickness_mm": thickness_mm,
+        "side_mm": side / MM,
+        "grid": grid_arr.tolist(),
+        "central_block": int((n + 1) // 2 * (n + 2) + (n + 1) // 2),
+    }
+    return Scene(
+        assembly, supports, Loads.gravity_only(len(blocks)), f"tis_{n}x{n}_{theta_deg:g}", meta
+    )
+
+
+def _checked_panel(n, theta_deg, size_mm, thickness_mm, density):
+    """Panel size, thickness [m], inclination [rad] and block side [m], after a
+    ``ValueError`` naming a number out of range or a theta so steep the top faces vanish."""
     check_finite(
         n=n, theta_deg=theta_deg, size_mm=size_mm, thickness_mm=thickness_mm, density=density
     )
@@ -103,6 +127,12 @@ def tis_panel(
             f"theta_deg={theta_deg} is too steep for blocks of side {side / MM:.3g} mm and "
             f"thickness {thickness_mm} mm: the top face would vanish (need 2 t tan(theta) < l)"
         )
+    return size, t, theta, side
+
+
+def _panel_blocks(n: int, size: float, side: float, t: float, theta: float):
+    """The (n + 2)^2 blocks row by row (boundary blocks clipped to the panel's square of side
+    ``size`` [m] into halves and quarters) and their grid positions (i, j)."""
     cuts = [
         (np.array([-1.0, 0, 0]), 0.0),
         (np.array([1.0, 0, 0]), size),
@@ -121,23 +151,7 @@ def tis_panel(
                     block = clip_halfspace(block, normal, offset)
             blocks.append(block)
             grid.append((i, j))
-    grid_arr = np.array(grid)
-    boundary = (grid_arr == 0).any(axis=1) | (grid_arr == n + 1).any(axis=1)
-    assembly = Assembly(tuple(blocks), density, mu)
-    supports = Supports.fixed_blocks(len(blocks), np.flatnonzero(boundary) if fix_boundary else [])
-    meta = {
-        "builder": "tis_panel",
-        "n": n,
-        "theta_deg": theta_deg,
-        "size_mm": size_mm,
-        "thickness_mm": thickness_mm,
-        "side_mm": side / MM,
-        "grid": grid_arr.tolist(),
-        "central_block": int((n + 1) // 2 * (n + 2) + (n + 1) // 2),
-    }
-    return Scene(
-        assembly, supports, Loads.gravity_only(len(blocks)), f"tis_{n}x{n}_{theta_deg:g}", meta
-    )
+    return blocks, grid
 
 
 def tis_void_volume(n: int, theta: float, thickness: float) -> float:

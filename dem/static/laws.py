@@ -155,7 +155,7 @@ class ResultantLaw(_Committed):
     """Seed 001's resultant law (:mod:`dem.kernels.interface_law`) on every joint; the
     parameter rows hold each joint's polygon (at most ``MAX_VERTICES`` corners)."""
 
-    def __init__(self, joints: JointArrays, settings: ResultantLawSettings, interfaces: Interfaces):
+    def __init__(self, joints: JointArrays, interfaces: Interfaces, settings: ResultantLawSettings):
         self.settings = settings
         m = joints.n
         j11, j22 = joints.second_moments[:, 0], joints.second_moments[:, 1]
@@ -287,3 +287,17 @@ class FibreLaw(_Committed):
             q, self.spring_ptr, self.springs, self.params, self.plastic, floor, (slip, broken), f, D
         )
         return LawResponse(f, D, state, (slip, broken))
+
+
+def build_law(
+    settings: ResultantLawSettings | FibreLawSettings, joints: JointArrays, interfaces: Interfaces
+) -> InterfaceLaw:
+    """The law object that ``settings`` configure, on the joints of one scene."""
+    law = LAW_OF_SETTINGS.get(type(settings))
+    if law is None:
+        raise ValueError(f"no interface law is configured by {type(settings).__name__}")
+    return law(joints, interfaces, settings)
+
+
+LAW_OF_SETTINGS = {ResultantLawSettings: ResultantLaw, FibreLawSettings: FibreLaw}
+"""The law class that each settings class configures."""

@@ -24,7 +24,7 @@ from dem.kernels.stiffness import (
     stiffness_values,
 )
 from dem.scene import DOFS, Scene
-from dem.static.laws import InterfaceLaw, JointArrays, LawResponse
+from dem.static.laws import InterfaceLaw, JointArrays, LawResponse, build_law
 from dem.static.result import StaticSolverError
 from dem.static.settings import StaticSettings
 
@@ -160,7 +160,8 @@ class Model:
             np.ascontiguousarray(scene.assembly.centroid, dtype=np.float64),
             np.ascontiguousarray(itf.frame, dtype=np.float64),
         )
-        self.law: InterfaceLaw = settings.law_settings.build(joint_arrays(scene, settings), itf)
+        joints = joint_arrays(scene, settings)
+        self.law: InterfaceLaw = build_law(settings.law_settings, joints, itf)
         self._set_loads(scene)
         self._patterns: dict = {}
 

@@ -1,5 +1,9 @@
 """Settings of the static collapse analysis: the joints, each interface law, the path.
 
+Plain values only: the law objects they configure are built from them in
+:mod:`dem.static.laws` (:func:`dem.static.laws.build_law`), which imports this module and
+never the reverse.
+
 Each interface law owns its numerical defaults in its own settings object
 (:class:`ResultantLawSettings`, :class:`FibreLawSettings`); :class:`StaticSettings` holds the
 joint properties shared by both laws and the control of the path. Its fields ``alpha``,
@@ -78,12 +82,6 @@ class ResultantLawSettings:
         if not isinstance(self.predictor, bool):
             raise ValueError(f"predictor must be True or False, got {self.predictor!r}")
 
-    def build(self, joints, interfaces):
-        """The law object of a scene's joints (:class:`dem.static.laws.ResultantLaw`)."""
-        from dem.static.laws import ResultantLaw
-
-        return ResultantLaw(joints, self, interfaces)
-
 
 @dataclass(frozen=True)
 class FibreLawSettings:
@@ -128,12 +126,6 @@ class FibreLawSettings:
         _positive("accept_tolerance", self.accept_tolerance, allow_none=True)
         if not isinstance(self.predictor, bool):
             raise ValueError(f"predictor must be True or False, got {self.predictor!r}")
-
-    def build(self, joints, interfaces):
-        """The law object of a scene's joints (:class:`dem.static.laws.FibreLaw`)."""
-        from dem.static.laws import FibreLaw
-
-        return FibreLaw(joints, interfaces, self)
 
 
 LAWS = {law.name: law for law in (ResultantLawSettings, FibreLawSettings)}

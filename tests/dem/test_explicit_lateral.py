@@ -123,6 +123,8 @@ def test_scene_without_live_load_refused_by_live_ramp():
         ({"max_hold": 0.5}, "max_hold"),
         ({"refinements": -1}, "refinements"),
         ({"direction": (0.0, 0.0, 1.0)}, "direction"),
+        ({"start": 1.0}, "start"),
+        ({"start": -0.1}, "start"),
     ],
 )
 def test_nonsense_driver_settings_refused(kwargs, name):
@@ -130,9 +132,18 @@ def test_nonsense_driver_settings_refused(kwargs, name):
         TiltingTable(**kwargs)
 
 
-def test_nonsense_motion_criteria_refused():
-    with pytest.raises(ValueError, match="speed_fraction"):
-        MotionCriteria(speed_fraction=2.0)
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"speed_fraction": 2.0}, "speed_fraction"),
+        ({"onset_fraction": 0.0}, "onset_fraction"),
+        ({"onset_ratio": 1.0}, "onset_ratio"),
+        ({"onset_ratio": float("nan")}, "onset_ratio"),
+    ],
+)
+def test_nonsense_motion_criteria_refused(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        MotionCriteria(**kwargs)
 
 
 def test_masonry_settings_kn_from_material():

@@ -16,7 +16,7 @@ def tis_case(tmp_path, monkeypatch):
     """The case module writing its npz files to a temporary directory (not the results)."""
     import validation.cases.tis as tis
 
-    monkeypatch.setattr(tis, "RESULTS_DIR", tmp_path)
+    monkeypatch.setenv("BLOCKMECH_RESULTS", str(tmp_path))  # output_dir() outside a run
     return tis
 
 

@@ -28,7 +28,7 @@ def _toml(tmp_path, text):
             "[[loads.point]]\nblock = 0\npoint = [0, 0, 0]\nforse = [0, 0, -1]\n",
             r"'forse' in \[loads\.point\[0\]\] \(did you mean 'force'",
         ),
-        ("densty = 1000.0\n", r"'densty' in the top level; allowed keys: name, material"),
+        ("densty = 1000.0\n", r"'densty' in the top level; allowed keys: name, units, material"),
         ("[suports]\nfixed = [0]\n", r"'suports' in the top level \(did you mean 'supports'"),
     ],
 )

@@ -32,3 +32,36 @@ def test_rows_are_sorted_by_reference_kind(tmp_path, monkeypatch):
     assert data["static DEM (masonry)"] == {"numerical": [], "model": [(5.0, 0.1)]}
     (png,) = fig.main()
     assert png.exists() and png.stat().st_size > 0
+
+
+def test_one_figure_per_method_from_rows_and_benchmark_sweeps(tmp_path, monkeypatch):
+    """Rows give points (estimated error where a finite bar is carried, true error where the
+    reference is numerical, not a published value); a benchmark sweep gives a line; each
+    method with data gets its own figure."""
+    from paper_figures import fig_speed_error_methods as fig_m
+
+    rows = [
+        {**_row(1e-3, 0.5, "closed form b/h"), "ours": 2.0, "ours_error": 0.01},
+        {**_row(0.1, 2.0, "seed 001 Table 2"), "ours": 1.0, "ours_error": "inf"},  # model error
+        _row(1e-6, 0.0, "closed form"),  # no wall time: left out
+    ]
+    _case(tmp_path, "limit-closed-forms", rows)
+    sweeps = tmp_path / "sweeps"
+    sweeps.mkdir()
+    (sweeps / "speed-error-fem.json").write_text(json.dumps({
+        "method": "FEM check (scikit-fem)",
+        "series": [{"label": "P2", "cost_s": [1.0, 2.0], "estimated": [0.1, None],
+                    "true": [0.05, 0.02]}],
+    }))  # fmt: skip
+    monkeypatch.setattr(fig_m, "RESULTS", tmp_path)
+    monkeypatch.setattr(fig_m, "SWEEPS", sweeps)
+    monkeypatch.setattr(fig_m, "OUT", tmp_path / "out")
+    got = fig_m.collect_rows()
+    assert got == {"limit analysis (cvxpy + Clarabel)": [(0.5, 0.005, 1e-3)]}
+    assert fig_m.collect_sweeps()["FEM check (scikit-fem)"][0]["label"] == "P2"
+    pngs = fig_m.main()
+    assert sorted(p.name for p in pngs) == [
+        "fig_speed_error_fem_check.png",
+        "fig_speed_error_limit_analysis.png",
+    ]
+    assert all(p.stat().st_size > 0 for p in pngs)

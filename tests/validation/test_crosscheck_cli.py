@@ -92,6 +92,19 @@ def test_quiet_main_job(tmp_path, capfd):
 def test_case_summary_without_references():
     s = CaseSummary.of("c", [Row("no reference", 3.0)], 1.0)
     assert s.worst_numerical is None and s.worst_model is None and s.rows == 1
+    assert s.no_bar == 1  # 3.0 came without an error bar
+
+
+def test_case_summary_counts_references_outside_the_bar():
+    from dem.estimate import Estimate
+
+    rows = [
+        Row("a", Estimate(1.0, {"grid": 0.01}), 1.1, "closed form"),
+        Row("b", Estimate(1.0, {"grid": 0.01}), 1.1, "seed 001 Table 2"),
+        Row("c", Estimate(1.0, {"grid": 0.2}), 1.1, "seed 001 Table 2"),
+    ]
+    s = CaseSummary.of("c", rows, 1.0)
+    assert (s.outside_numerical, s.outside_model, s.no_bar) == (1, 1, 0)
 
 
 def test_validation_all_is_quiet_end_to_end(tmp_path):
@@ -101,6 +114,7 @@ def test_validation_all_is_quiet_end_to_end(tmp_path):
 import os, sys, warnings
 from pathlib import Path
 import validation.__main__ as m
+import validation.catalogue as c
 from dem.scenes import stack
 from limit import limit_analysis
 from validation.report import Row
@@ -111,9 +125,10 @@ def case(quick):
     lam = limit_analysis(stack(2, 0.4, 0.3, 0.5)).lam
     return [Row("overturning of a stack", lam, 0.4, "closed form b / (n h)")]
 
-m.CASES = {{"stack": case}}
-m.RESULTS_DIR = Path({str(tmp_path)!r})
-m.write_results = lambda *a, **k: (Path("x.json"), Path("x.md"))
+c.CASES.clear()
+c.CASES["stack"] = case
+m.results_dir = c.results_dir = lambda quick: Path({str(tmp_path)!r})
+c.write_results = lambda *a, **k: (Path("x.json"), Path("x.md"))
 sys.exit(m.main(["all", "--quick"]))
 """
     env = {**os.environ, "MPLBACKEND": "Agg"}
@@ -123,8 +138,10 @@ sys.exit(m.main(["all", "--quick"]))
     assert done.returncode == 0, done.stdout + done.stderr
     lines = done.stdout.strip().splitlines()
     assert lines[1].startswith("[1/1] stack ... ok, 1 rows")
-    last = lines[-1].split()
-    assert last[0] == "stack" and last[-1] == "no" and float(last[2]) < 1e-6
+    (last,) = [line.split() for line in lines if line.split()[:1] == ["stack"]]
+    assert last[-1] == "no" and float(last[2]) < 1e-6
+    # then the folder's manifest, and its check (the stubbed writer left no stack.json)
+    assert (tmp_path / "MANIFEST.json").exists() and lines[-1] == "stack: no results file"
     assert done.stderr == "" and "banner" not in done.stdout
     log = (tmp_path / "validation.log").read_text()
     assert "solver banner on fd 1" in log and "a warning" in log

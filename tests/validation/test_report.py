@@ -45,7 +45,7 @@ def test_results_and_side_products_are_written_together(tmp_path, monkeypatch):
     monkeypatch.setitem(cli.CASES, "fake", _case(1.0))
     cli.run_case("fake", quick=True, out_dir=tmp_path)
     ours, side, md = _read(tmp_path)
-    assert ours == side == 1.0 and "| x [-] | 1 |" in md
+    assert ours == side == 1.0 and "| x [-] | 1 ± ? |" in md  # no error given: unknown
     data = json.loads((tmp_path / "fake.json").read_text())
     assert list(data["side_products"]) == ["fake.npz"]
     assert len(data["side_products"]["fake.npz"]) == 64  # sha256 of the file moved with it
@@ -112,23 +112,23 @@ def test_warning_filters_of_a_case_do_not_leak(tmp_path, monkeypatch):
 
 
 def test_dirty_tree_flag(tmp_path, monkeypatch):
-    import validation.report as report
+    import validation.provenance as provenance
 
-    monkeypatch.setattr(report, "_git_dirty", lambda: (True, ["limit/solve.py"]))
+    monkeypatch.setattr(provenance, "git_dirty", lambda: (True, ["limit/solve.py"]))
     write_results("fake", [Row("x", 1.0)], quick=True, wall_s=0.0, out_dir=tmp_path)
     data = json.loads((tmp_path / "fake.json").read_text())
-    assert data["git_dirty"] is True and data["git_dirty_files"] == ["limit/solve.py"]
+    assert data["git_clean"] is False and data["git_dirty_files"] == ["limit/solve.py"]
     assert "(dirty tree)" in (tmp_path / "fake.md").read_text()
-    monkeypatch.setattr(report, "_git_dirty", lambda: (False, []))
+    monkeypatch.setattr(provenance, "git_dirty", lambda: (False, []))
     write_results("fake", [Row("x", 1.0)], quick=True, wall_s=0.0, out_dir=tmp_path)
-    assert json.loads((tmp_path / "fake.json").read_text())["git_dirty"] is False
+    assert json.loads((tmp_path / "fake.json").read_text())["git_clean"] is True
     assert "dirty" not in (tmp_path / "fake.md").read_text()
 
 
 def test_git_dirty_sees_a_source_change_but_not_results(tmp_path):
     """On a scratch repository: a changed source file makes the tree dirty, a changed file
     under validation/results does not."""
-    import validation.report as report
+    from validation.provenance import git_dirty
 
     def git(*args):
         subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)
@@ -139,16 +139,11 @@ def test_git_dirty_sees_a_source_change_but_not_results(tmp_path):
     (tmp_path / "validation" / "results" / "x.json").write_text("{}\n")
     git("add", "-A")
     git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "init")
-    repo = report._REPO
-    try:
-        report._REPO = tmp_path
-        assert report._git_dirty() == (False, [])
-        (tmp_path / "validation" / "results" / "x.json").write_text('{"a": 1}\n')
-        assert report._git_dirty() == (False, [])
-        (tmp_path / "src.py").write_text("a = 2\n")
-        assert report._git_dirty() == (True, ["src.py"])
-    finally:
-        report._REPO = repo
+    assert git_dirty(tmp_path) == (False, [])
+    (tmp_path / "validation" / "results" / "x.json").write_text('{"a": 1}\n')
+    assert git_dirty(tmp_path) == (False, [])
+    (tmp_path / "src.py").write_text("a = 2\n")
+    assert git_dirty(tmp_path) == (True, ["src.py"])
 
 
 def test_staging_is_private_to_the_run(tmp_path):
@@ -159,3 +154,147 @@ def test_staging_is_private_to_the_run(tmp_path):
         (stage / "sub" / "a.txt").write_text("a")
     assert (tmp_path / "sub" / "a.txt").read_text() == "a"
     assert os.listdir(tmp_path) == ["sub"]
+
+
+# -- rows with error bars ----------------------------------------------------------------------
+def test_a_row_takes_an_estimate_and_writes_its_bar(tmp_path):
+    from dem.estimate import Estimate
+
+    est = Estimate(0.284312, {"load step": 0.0008, "end of path": 0.0004}, notes="two levels")
+    row = Row("arch lambda [-]", est, 0.2843, "limit analysis")
+    assert row.ours == 0.284312 and np.isclose(row.ours_error, 0.0012)
+    assert row.reference_inside is True and row.error_kind is None
+    write_results("fake", [row], quick=True, wall_s=0.0, out_dir=tmp_path)
+    data = json.loads((tmp_path / "fake.json").read_text())["rows"][0]
+    assert np.isclose(data["ours_error"], 0.0012)
+    assert data["error_sources"] == {"load step": 0.0008, "end of path": 0.0004}
+    assert data["error_notes"] == "two levels" and data["reference_inside"] is True
+    # the error 0.0012 supports 4 decimals: 0.2843 ± 0.0012
+    assert "| arch lambda [-] | 0.2843 ± 0.0012 | 0.2843 |" in (tmp_path / "fake.md").read_text()
+
+
+def test_a_reference_outside_the_bar_says_which_error_it_is():
+    """Outside the bar, a seed's table or experiment is a model error, a closed form or
+    another method is a numerical one; an unknown bar says nothing."""
+    from dem.estimate import Estimate
+
+    seed = Row("S15 lambda [-]", Estimate(0.30, {"grid": 0.01}), 0.35, "seed 001 Table 2")
+    closed = Row("tipping [-]", Estimate(0.30, {"grid": 0.01}), 0.35, "closed form b/h")
+    exact = Row("count [-]", Estimate(4.0, {"exact": 0.0}), 4.0, "exact count")
+    unknown = Row("no bar [-]", 0.30, 0.35, "closed form b/h")
+    assert (seed.reference_inside, seed.error_kind) == (False, "model")
+    assert (closed.reference_inside, closed.error_kind) == (False, "numerical")
+    assert (exact.reference_inside, exact.ours_error) == (True, 0.0)
+    assert unknown.ours_error == np.inf and unknown.error_sources == {"not estimated": np.inf}
+    assert unknown.reference_inside is None and unknown.error_kind is None
+    assert Row("n/a", None).ours_error is None and Row("n/a", None).error_sources == {}
+
+
+def test_a_row_refuses_a_nan_value():
+    with pytest.raises(ValueError, match="ours is NaN; give None"):
+        Row("ultimate deflection [mm]", float("nan"))
+
+
+def test_a_row_rejects_a_bad_bar():
+    with pytest.raises(ValueError, match="half-width"):
+        Row("x", 1.0, error_sources={"grid": -1e-3})
+    with pytest.raises(ValueError, match="Estimate or error_sources"):
+        from dem.estimate import Estimate
+
+        Row("x", Estimate(1.0, {"grid": 0.1}), error_sources={"grid": 0.1})
+
+
+# -- the quick folder and the manifest ---------------------------------------------------------
+def _porcelain(*paths: str) -> str:
+    return subprocess.run(
+        ["git", "status", "--porcelain", "--", *paths],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+
+
+def test_a_quick_run_touches_no_committed_result():
+    """``python -m validation run geometry --quick`` writes the git-ignored quick folder; the
+    committed full ``geometry.json`` keeps its bytes and git sees no change."""
+    from validation.report import QUICK_RESULTS_DIR, RESULTS_DIR
+
+    committed = RESULTS_DIR / "geometry.json"
+    before, status = committed.read_bytes(), _porcelain("validation", ".gitignore")
+    done = subprocess.run(
+        [sys.executable, "-m", "validation", "run", "geometry", "--quick"],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    quick = json.loads((QUICK_RESULTS_DIR / "geometry.json").read_text())
+    assert quick["quick"] is True and quick["case"] == "geometry"
+    assert committed.read_bytes() == before
+    assert _porcelain("validation", ".gitignore") == status
+
+
+def _fake_result(folder: Path, case: str, commit: str, clean: bool = True, quick: bool = False):
+    payload = {"case": case, "quick": quick, "git_commit": commit, "git_clean": clean}
+    payload.update(date=f"d-{case}", wall_s=1.0, side_products={}, rows=[])
+    (folder / f"{case}.json").write_text(json.dumps(payload))
+
+
+def test_the_manifest_names_the_results_not_from_its_commit(tmp_path):
+    from validation.manifest import check_manifest, write_manifest
+
+    _fake_result(tmp_path, "a", "1" * 40)
+    _fake_result(tmp_path, "b", "1" * 40)
+    _fake_result(tmp_path, "c", "2" * 40, clean=False, quick=True)
+    write_manifest(tmp_path)  # the commit most results share
+    assert json.loads((tmp_path / "MANIFEST.json").read_text())["git_commit"] == "1" * 40
+    problems = check_manifest(tmp_path, expected=["a", "b", "c", "d"])
+    assert problems == [
+        "d: no results file",
+        "c: from commit 222222222222, not 111111111111",
+        "c: written from a dirty tree",
+        "c: a quick run in the full results",
+    ]
+    runs = tmp_path / "a-runs.jsonl"
+    runs.write_text(json.dumps({"git_commit": "3" * 40}) + "\n")
+    _fake_result(tmp_path, "a", "1" * 40)
+    data = json.loads((tmp_path / "a.json").read_text())
+    data["side_products"] = {"a-runs.jsonl": "sha"}
+    (tmp_path / "a.json").write_text(json.dumps(data))
+    assert "a: sweep records not from 111111111111: 1 from 333333333333" in check_manifest(tmp_path)
+
+
+def test_the_command_line_is_not_in_the_middle_of_the_sweep_runner():
+    """No import chain from the sweep package to ``validation.__main__``, by import statement
+    or by name (an ``importlib`` call hides the circle from static tools)."""
+    import grimp
+
+    graph = grimp.build_graph("validation")
+    for module in graph.find_children("validation.sweep"):
+        assert not graph.chain_exists(module, "validation.__main__"), module
+    for path in (REPO / "validation" / "sweep").glob("*.py"):
+        assert "validation.__main__" not in path.read_text(), path
+
+
+def _square(params, seed):
+    return {"y": params["x"] ** 2}
+
+
+def test_sweep_records_carry_the_commit_clean_flag_date_and_wall_time(tmp_path):
+    from validation.provenance import git_commit
+    from validation.sweep import make_tasks, run_sweep
+
+    tasks = list(make_tasks(({"x": x} for x in (1.0, 2.0)), root_seed=3))
+    summary = run_sweep(_square, tasks, tmp_path / "s", workers=0, progress=False)
+    for record in summary.records():
+        assert record["git_commit"] == git_commit() and record["git_clean"] in (True, False)
+        assert record["date"].startswith("20") and record["wall_s"] >= 0
+
+
+def test_outside_a_run_side_products_never_go_to_the_committed_results(monkeypatch):
+    from validation.report import QUICK_RESULTS_DIR, RESULTS_DIR
+
+    monkeypatch.delenv("BLOCKMECH_RESULTS", raising=False)
+    assert output_dir() == QUICK_RESULTS_DIR != RESULTS_DIR

@@ -169,6 +169,46 @@ def test_a_store_has_one_writer(tmp_path):
         first.close()
 
 
+RUNNING_SWEEP = textwrap.dedent(
+    """
+    import sys
+    from validation.sweep import ResultStore
+    store = ResultStore(sys.argv[1], {"study": "running"})
+    store.open()
+    store.append({"key": "a", "status": "ok", "params": {}, "result": {}})
+    print("open", flush=True)
+    sys.stdin.readline()
+    store.close()
+    """
+)
+
+
+def test_a_second_sweep_cannot_touch_a_running_sweeps_records(tmp_path):
+    """A second process with another manifest and overwrite=True is refused before it reads
+    the manifest: the running sweep's manifest and record stay where they are."""
+    proc = subprocess.Popen(
+        [sys.executable, "-c", RUNNING_SWEEP, str(tmp_path)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert proc.stdout.readline().strip() == "open"
+        with pytest.raises(SweepStoreError, match="another process"):
+            ResultStore(tmp_path, {"study": "other"}, overwrite=True).open()
+        assert json.loads((tmp_path / "manifest.json").read_text()) == {"study": "running"}
+        assert len((tmp_path / "results.jsonl").read_text().splitlines()) == 1
+        assert not (tmp_path / "superseded").exists()
+    finally:
+        proc.communicate("\n", timeout=30)
+    assert proc.returncode == 0
+    # once the first sweep has closed, the second one sets its records aside
+    second = ResultStore(tmp_path, {"study": "other"}, overwrite=True)
+    second.open()
+    second.close()
+    assert (tmp_path / "superseded" / "1" / "results.jsonl").exists()
+
+
 KILLED_SWEEP = textwrap.dedent(
     """
     import sys

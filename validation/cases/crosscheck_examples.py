@@ -12,7 +12,8 @@ Scenes:
   weight along +x.
 
 Every row is one line of a scene's verdict (:mod:`validation.crosscheck.verdict`): ``ours`` is
-the checked value, ``extra`` holds the bound it is compared with, the outcome (pass, fail or
+the checked value with the error bar its method gave (unknown where the method gives none),
+``extra`` holds the bound it is compared with and the bound's bar, the outcome (pass, fail or
 n/a) and why. There is no reference value: a check is an inequality between methods, not an
 error. A failed line is a finding about a method (which one disagrees with the others, by how
 much), not a failure of the case. Each scene's full report (``report.md``, ``report.json``;
@@ -23,12 +24,15 @@ of the 3 x 13 panel (about 100 s).
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
+from dem.estimate import Estimate
 from dem.scene import Scene, proportional_to_weight
 from dem.scenes import orduna_panel, tis_panel, voussoir_arch
 from dem.scenes.running_bond_wall import box_corners
 from validation.crosscheck import METHODS, CrosscheckResult, CrosscheckSettings, crosscheck
+from validation.crosscheck.verdict import Check
 from validation.report import Row, output_dir
 
 
@@ -63,19 +67,31 @@ def scenes() -> dict[str, Scene]:
     }
 
 
+def checked_value(check: Check) -> Estimate | None:
+    """The value a check compares, with the half-width of its method's error bar (the
+    sources are in the scene's ``report.json``); unknown where the method gives none."""
+    if check.value is None:
+        return None
+    error = check.value_error
+    if error is None or not math.isfinite(error):
+        return Estimate.unknown(check.value, "the checked method gives no error bar")
+    return Estimate(check.value, {"method's error bar": error})
+
+
 def rows_of(key: str, result: CrosscheckResult) -> list[Row]:
     steps = {s.name: s.wall_s for s in result.steps}
     rows = []
     for c in result.checks:
+        extra = {"outcome": c.status, "bound": c.bound, "bound_error": c.bound_error}
         rows.append(
             Row(
                 f"{key}: {c.name}",
-                c.value,
+                checked_value(c),
                 None,
                 "consistency of the methods",
                 steps.get(c.step),
                 {"steps": [s.name for s in result.steps if s.ok]},
-                {"outcome": c.status, "bound": c.bound, "detail": c.detail},
+                {**extra, "detail": c.detail},
             )
         )
     return rows

@@ -9,6 +9,12 @@ agreement of the three routes (kinematic, SOCP, elastic-plastic increments).
 
 Curves for the figures are written to ``validation/results/interface-strength.npz``; each row's
 ``curve`` column names its arrays there.
+
+Error bars: a quantity of the 32 x 32 seed grid that an independent route also computes carries
+their difference (source ``"route"``); a grid value compared with a continuum closed form carries
+the difference to the grid half as fine (``"grid"``); a closed form evaluated in float64 carries one
+machine epsilon. Rows that are themselves the difference of two routes (reference 0) have no bar
+of their own (unknown): the routes' bars are not estimated.
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ import time
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.interface_strength import (
     CoulombSpringLaw,
     InterfaceStrengthError,
@@ -36,6 +43,7 @@ from dem.interface_strength import (
     torsion_strength_with_bending_closed_form,
     twist_centre_resultants,
 )
+from validation.cases.bars import round_off, two_levels
 from validation.report import Row, output_dir
 
 CASE = "interface-strength"
@@ -71,6 +79,28 @@ TABLE_A1 = {
 COLUMNS = (("f1", 0.0), ("f2", 0.5 * math.pi), ("f1=f2", 0.25 * math.pi))
 
 
+COARSE = N_GRID // 2
+"""The coarser grid of the two-level bars."""
+
+
+def _closed(value: float) -> Estimate:
+    """A closed form evaluated in float64: one machine epsilon."""
+    return round_off(value, value)
+
+
+def _route(value: float, other: float, route: str) -> Estimate:
+    """``value`` with the difference to an independent route as its bar."""
+    return Estimate(float(value), {f"route ({route})": abs(value - other)})
+
+
+def _grid(fn, fine_n: int = N_GRID, **kw) -> Estimate:
+    """``fn(SpringInterface)`` on the ``fine_n`` grid, with the difference to the grid half as
+    fine (source ``"grid"``)."""
+    fine = fn(SpringInterface.rectangle(kw.get("l1", L1), kw.get("l2", L2), fine_n))
+    coarse = fn(SpringInterface.rectangle(kw.get("l1", L1), kw.get("l2", L2), fine_n // 2))
+    return two_levels(fine, coarse, "grid", f"{fine_n} vs {fine_n // 2} springs per side")
+
+
 def _shear_rows(curves: dict, quick: bool) -> list[Row]:
     interface = SpringInterface.rectangle(L1, L2, N_GRID)
     start = time.perf_counter()
@@ -96,7 +126,7 @@ def _shear_rows(curves: dict, quick: bool) -> list[Row]:
     return [
         Row(
             "shear strength f_su, seed interface [N]",
-            f_su,
+            _route(f_su, float(np.hypot(*ends[0])), "EPP increments"),
             168.0,
             f"{SEED} Sec. 2.1.2 (f_su = -mu f3)",
             wall,
@@ -134,7 +164,7 @@ def _torsion_rows(curves: dict, quick: bool) -> list[Row]:
     return [
         Row(
             "pure torsion strength m3u, seed interface [N m]",
-            m3u,
+            _route(m3u, socp.torsion, "SOCP"),
             16.2,
             f"{SEED} Sec. 2.1.3",
             wall,
@@ -152,7 +182,7 @@ def _torsion_rows(curves: dict, quick: bool) -> list[Row]:
         ),
         Row(
             "pure torsion, closed form c_T mu abs(N) (continuum) [N m]",
-            closed,
+            _closed(closed),
             16.2,
             f"{SEED} Sec. 2.1.3 (value); Eq. (11) re-derived",
             0.0,
@@ -161,7 +191,7 @@ def _torsion_rows(curves: dict, quick: bool) -> list[Row]:
         ),
         Row(
             "pure torsion, rigid-block model: N at the 4 vertices [N m] (other model)",
-            vertices,
+            _closed(vertices),
             None,
             "informational: mu abs(N) x half diagonal, not the seed's model",
             0.0,
@@ -183,17 +213,19 @@ def _convergence_rows(quick: bool) -> list[Row]:
     c_t = torsion_coefficient_rectangle(L1, L2)
     ns = [4, 8, 16, 32, 64, 128] if quick else [4, 8, 16, 32, 64, 128, 256, 512]
     rows, errs = [], []
+    prev = _c_t_grid(ns[0] // 2)
     for n in ns:
         start = time.perf_counter()
-        interface = SpringInterface.rectangle(L1, L2, n)
-        grid_ct = torsion_strength(interface, LAW, NORMAL_FORCE) / (MU * abs(NORMAL_FORCE))
+        grid_ct = _c_t_grid(n)
         wall = time.perf_counter() - start
         errs.append(abs(grid_ct - c_t))
+        bar = two_levels(grid_ct, prev, "grid", f"{n} vs {n // 2} springs per side")
+        prev = grid_ct
         order = math.log2(errs[-2] / errs[-1]) if len(errs) > 1 else None
         rows.append(
             Row(
                 f"c_T spring grid {n}x{n} vs closed form [m]",
-                grid_ct,
+                bar,
                 c_t,
                 "closed form (mean distance to centroid)",
                 wall,
@@ -203,10 +235,11 @@ def _convergence_rows(quick: bool) -> list[Row]:
         )
     h = np.array([1.0 / n for n in ns])
     slope = float(np.polyfit(np.log(h[2:]), np.log(errs[2:]), 1)[0])
+    narrower = float(np.polyfit(np.log(h[3:]), np.log(errs[3:]), 1)[0])
     rows.append(
         Row(
             "c_T convergence order (fit over grids >= 16)",
-            slope,
+            two_levels(slope, narrower, "fit window", "grids >= 16 vs grids >= 32"),
             2.0,
             "midpoint rule, cone point at the centroid: O(h^2)",
             None,
@@ -214,6 +247,12 @@ def _convergence_rows(quick: bool) -> list[Row]:
         )
     )
     return rows
+
+
+def _c_t_grid(n: int) -> float:
+    """c_T of the ``n x n`` spring grid [m]."""
+    interface = SpringInterface.rectangle(L1, L2, n)
+    return torsion_strength(interface, LAW, NORMAL_FORCE) / (MU * abs(NORMAL_FORCE))
 
 
 def _domain_seed_rows(curves: dict, quick: bool) -> list[Row]:
@@ -284,13 +323,18 @@ def _alpha_rows(curves: dict, quick: bool) -> list[Row]:
             )
             alpha_lsq = fit_alpha(dom, "lsq")
             wall = time.perf_counter() - start
+            coarse = SpringInterface.rectangle(ratio * L2, L2, COARSE)
+            dom_c = interaction_domain(coarse, LAW, NORMAL_FORCE, shear_angle=angle)
+            alpha_c = fit_alpha(
+                dom_c, "equal_ratio", interface=coarse, law=LAW, normal_force=NORMAL_FORCE
+            )
             f, m = dom.shear_normalised, dom.torsion_normalised
             key = f"alpha_r{ratio:g}_{label.replace('=', 'eq')}"
             curves[f"{key}_f"], curves[f"{key}_m"] = f, m
             rows.append(
                 Row(
                     f"alpha, l1/l2 = {ratio:g}, shear {label}",
-                    alpha,
+                    two_levels(alpha, alpha_c, "grid", f"{N_GRID} vs {COARSE} springs per side"),
                     seed_alpha,
                     f"{SEED} Table A1",
                     wall,
@@ -357,10 +401,16 @@ def _bending_rows(curves: dict, quick: bool) -> list[Row]:
         curves[f"fig10_{tag}_spring"] = spring
         curves[f"fig10_{tag}_closed"] = closed
         j = int(np.argmin(np.abs(frac - 0.5)))
+        m1, m2 = s1 * frac[j] * m1_max, s2 * frac[j] * m2_max
+        ours = _grid(
+            lambda itf, m1=m1, m2=m2: torsion_strength_with_bending(
+                itf, LAW, NORMAL_FORCE, m1, m2, L1, L2
+            )
+        )
         rows.append(
             Row(
                 f"torsion strength with bending ({tag} = 0.5 of rotation strength) [N m]",
-                float(spring[j]),
+                ours,
                 float(closed[j]),
                 "Orduna & Lourenco (2005a) reduced rectangle, closed form c_T (seed 001 Fig. 10)",
                 wall / n_pts,
@@ -398,7 +448,7 @@ def _tensile_rows(curves: dict, quick: bool) -> list[Row]:
     return [
         Row(
             f"torsion strength with sigma_t = {sigma_t[-1] / 1e3:g} kPa [N m]",
-            float(spring[-1]),
+            _grid(lambda itf: torsion_strength(itf, law, NORMAL_FORCE)),
             float(eq12[-1]),
             f"{SEED} Eq. (12) with closed-form c_T",
             wall / len(sigma_t),
@@ -411,7 +461,7 @@ def _tensile_rows(curves: dict, quick: bool) -> list[Row]:
         ),
         Row(
             "shear strength with sigma_t = 20 kPa [N]",
-            shear_strength(interface, law, NORMAL_FORCE),
+            _grid(lambda itf: shear_strength(itf, law, NORMAL_FORCE)),
             MU * (sigma_t[-1] * L1 * L2 - NORMAL_FORCE),
             f"{SEED} Eq. (10)",
             None,

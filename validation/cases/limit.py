@@ -14,10 +14,12 @@ seed 001 Eq. 14, alpha = 1.5):
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
 import warnings
+from collections.abc import Callable
 
 import numpy as np
 
@@ -26,12 +28,14 @@ from limit.errors import DeadLoadInfeasibleError, LimitAnalysisError, NoMechanis
 from limit.estimates import bounds_and_estimates, reduced_friction
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
-from validation.report import RESULTS_DIR, Row, output_dir
+from validation.cases.bars import exact, per_unit, static_lambda
+from validation.report import Row, final_path, output_dir
 
 logger = logging.getLogger(__name__)
 
 MODELS = ("vertex", "resultant")
-MECHANISM_DIR = RESULTS_DIR / "limit_mechanisms"
+MECHANISM_DIR = "limit_mechanisms"
+"""Folder of the mechanisms' side products, inside the results folder."""
 SEED = "seed 001 (Baraldi & Cecchi)"
 KPA = 1e3
 
@@ -92,25 +96,9 @@ def _bounds_rows(
             scene, settings, iterate=iterate, max_updates=max_updates, strict=False
         )
     except LimitAnalysisError as exc:
+        quantity = f"{label} [{model}] upper bound {unit_label}"
         wall = time.perf_counter() - t0
-        text = str(exc)
-        kind = (
-            "unbounded"
-            if isinstance(exc, NoMechanismError)
-            else "infeasible"
-            if isinstance(exc, DeadLoadInfeasibleError)
-            else "error"
-        )
-        row = Row(
-            f"{label} [{model}] upper bound {unit_label}",
-            None,
-            reference,
-            source,
-            wall,
-            settings.to_dict(),
-            {**extra, "kind": "upper bound", "status": kind, "error": text[:160]},
-        )
-        return [row], {"upper": math.inf if kind == "unbounded" else None, "status": kind}
+        return _failure_rows(quantity, exc, reference, source, wall, settings, extra)
     est_ref = reference if est_reference is None else est_reference
     a = b.associated
     common = {
@@ -122,7 +110,7 @@ def _bounds_rows(
     rows = [
         Row(
             f"{label} [{model}] upper bound {unit_label}",
-            b.upper / unit,
+            per_unit(b.upper_estimate, unit),
             reference,
             source,
             b.wall_s["upper"],
@@ -131,7 +119,7 @@ def _bounds_rows(
         ),
         Row(
             f"{label} [{model}] estimate (a) mu* {unit_label}",
-            None if b.reduced_mu is None else b.reduced_mu / unit,
+            None if b.reduced_mu is None else per_unit(b.reduced_mu_estimate, unit, b.reduced_mu),
             est_ref,
             source,
             b.wall_s["reduced_mu"],
@@ -140,32 +128,14 @@ def _bounds_rows(
         ),
     ]
     if b.iterative is not None:
-        it = b.iterative
+        quantity = f"{label} [{model}] estimate (b) fixed-capacity iteration {unit_label}"
         rows.append(
-            Row(
-                f"{label} [{model}] estimate (b) fixed-capacity iteration {unit_label}",
-                None if it.lam is None else it.lam / unit,
-                est_ref,
-                source,
-                it.wall_s,
-                {**settings.to_dict(), "max_updates": max_updates, "omega": it.omega},
-                {
-                    **extra,
-                    "kind": "estimate (b), not a bound",
-                    "converged": it.converged,
-                    "admissible": it.admissible,
-                    "n_iter": it.n_iter,
-                    "history": [h / unit for h in it.history],
-                    "failure": it.failure,
-                    "note": it.note,
-                    "issues": "; ".join(b.issues),
-                },
-            )
+            _iterative_row(quantity, b, est_ref, source, settings, max_updates, unit, extra)
         )
     rows.append(
         Row(
             f"{label} [{model}] lower bound (frictionless) {unit_label}",
-            None if b.lower is None else b.lower / unit,
+            None if b.lower is None else per_unit(None, unit, b.lower),
             None,
             "Radenkovic second theorem (mu = 0)",
             b.wall_s.get("lower"),
@@ -173,16 +143,65 @@ def _bounds_rows(
             {**extra, "kind": "lower bound (proven)", "note": b.lower_note},
         )
     )
-    summary = {
+    return rows, _bounds_summary(b)
+
+
+def _bounds_summary(b) -> dict:
+    """The multipliers of a bounds-and-estimates result, with the result under ``bounds``."""
+    return {
         "upper": b.upper,
         "reduced_mu": b.reduced_mu,
         "iterative": None if b.iterative is None else b.iterative.lam,
         "iterative_converged": None if b.iterative is None else b.iterative.converged,
         "lower": b.lower,
-        "status": a.status,
+        "status": b.associated.status,
         "bounds": b,
     }
-    return rows, summary
+
+
+def _failure_rows(quantity, exc, reference, source, wall, settings, extra):
+    """The row and summary of a failed analysis, whose status is ``unbounded`` (no
+    mechanism), ``infeasible`` (the dead load alone fails) or ``error``."""
+    if isinstance(exc, NoMechanismError):
+        kind = "unbounded"
+    elif isinstance(exc, DeadLoadInfeasibleError):
+        kind = "infeasible"
+    else:
+        kind = "error"
+    row = Row(
+        quantity,
+        None,
+        reference,
+        source,
+        wall,
+        settings.to_dict(),
+        {**extra, "kind": "upper bound", "status": kind, "error": str(exc)[:160]},
+    )
+    return [row], {"upper": math.inf if kind == "unbounded" else None, "status": kind}
+
+
+def _iterative_row(quantity, b, reference, source, settings, max_updates, unit, extra) -> Row:
+    """Estimate (b): the fixed-capacity iteration, with its history and admissibility."""
+    it = b.iterative
+    return Row(
+        quantity,
+        None if it.lam is None else per_unit(it.estimate, unit, it.lam),
+        reference,
+        source,
+        it.wall_s,
+        {**settings.to_dict(), "max_updates": max_updates, "omega": it.omega},
+        {
+            **extra,
+            "kind": "estimate (b), not a bound",
+            "converged": it.converged,
+            "admissible": it.admissible,
+            "n_iter": it.n_iter,
+            "history": [h / unit for h in it.history],
+            "failure": it.failure,
+            "note": it.note,
+            "issues": "; ".join(b.issues),
+        },
+    )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -239,144 +258,184 @@ def _c_t_rectangle(l1, l2):
     ) / 6
 
 
+def _wall_scene() -> Scene:
+    """A free-standing running-bond wall 4 x 6 of 100 mm thick, 300 mm high."""
+    from dem.scenes.running_bond_wall import running_bond_wall
+
+    return running_bond_wall(4, 6, 50.0, 200.0, 100.0, 20.0, mu=0.7)
+
+
+def _weight(scene: Scene) -> float:
+    """Weight of the one free block of a closed-form scene [N]."""
+    return scene.assembly.mass[1] * 9.81
+
+
+@dataclasses.dataclass(frozen=True)
+class ClosedForm:
+    """A scene whose load multiplier is known in closed form.
+
+    ``quantity`` names the row (``{model}`` stands for the interface model); ``expected`` is
+    the multiplier or a function of the scene giving it; ``changes`` are the
+    :class:`LimitSettings` fields that differ from the defaults."""
+
+    quantity: str
+    scene: Callable[[], Scene]
+    expected: float | Callable[[Scene], float]
+    source: str
+    changes: dict = dataclasses.field(default_factory=dict)
+
+
+FC_BED = 2.0e4  # compressive strength of the closed forms' bed [Pa]
+SIGMA_T_BED = 2.0e3  # tensile strength of the closed forms' bed [Pa]
+_PI8 = (math.cos(math.pi / 8), math.sin(math.pi / 8), 0.0)  # a corner of the inscribed 8-gon
+
+BLOCK_FORMS = (
+    ClosedForm(
+        "single block b/h = 0.2/0.5, mu = 0.7: min(mu, b/h) [{model}]",
+        lambda: _block_scene(0.2, 0.3, 0.5, 0.7),
+        0.4,
+        "closed form min(mu, b/h)",
+    ),
+    ClosedForm(
+        "single block b/h = 1.0/0.2, mu = 0.5: min(mu, b/h) [{model}]",
+        lambda: _block_scene(1.0, 1.0, 0.2, 0.5),
+        0.5,
+        "closed form min(mu, b/h)",
+    ),
+    ClosedForm(
+        "free-standing running-bond wall 4 x 6, s/H = 100/300 [{model}]",
+        _wall_scene,
+        1.0 / 3.0,
+        "closed form s/H",
+    ),
+    ClosedForm(
+        "sliding block, reduced friction mu* = mu/sqrt(1+mu^2), mu = 0.5 [{model}]",
+        lambda: _block_scene(1.0, 1.0, 0.2, 0.5),
+        0.5 / math.sqrt(1.25),
+        "closed form mu*",
+        {"mu": reduced_friction(0.5)},
+    ),
+    ClosedForm(
+        "sliding block pushed at pi/8 from a corner of the inscribed 8-gon: mu cos(pi/8) [{model}]",
+        lambda: _block_scene(1.0, 1.0, 0.2, 0.5, direction=_PI8),
+        0.5 * math.cos(math.pi / 8),
+        "closed form (facet normal of the inscribed polygon)",
+        {"friction_polygon": 8},
+    ),
+    ClosedForm(
+        "centred block on a bed of f_c = 20 kPa: f_c A / W - 1 [{model}]",
+        lambda: _block_scene(0.4, 0.3, 0.2, 0.8, direction=(0.0, 0.0, -1.0)),
+        lambda scene: FC_BED * 0.12 / _weight(scene) - 1,
+        "closed form (uniform stress block)",
+        {"compressive_strength": FC_BED},
+    ),
+    ClosedForm(
+        "overturning with f_c = 20 kPa: (b - W/(f_c d))/h [{model}]",
+        lambda: _block_scene(0.2, 0.3, 0.5, 5.0),
+        lambda scene: (0.2 - _weight(scene) / (FC_BED * 0.3)) / 0.5,
+        "closed form (stress block of width b - 2e)",
+        {"compressive_strength": FC_BED},
+    ),
+    ClosedForm(
+        "sliding with tensile strength 2 kPa: mu (1 + sigma_t A / W) [{model}]",
+        lambda: _block_scene(1.0, 1.0, 0.2, 0.5),
+        lambda scene: 0.5 * (1 + SIGMA_T_BED * 1.0 / _weight(scene)),
+        "closed form (Coulomb apex at sigma_t, seed 001 Eq. 10)",
+        {"tensile_strength": SIGMA_T_BED},
+    ),
+)
+"""Closed forms that hold for both interface models."""
+
+TORSION_FORMS = (
+    (
+        "vertex",
+        ClosedForm(
+            "pure torsion, seed interface 0.3 x 0.2 m, N = 240 N, mu = 0.7 [vertex] [N m]",
+            _torsion_scene,
+            0.7 * 240.0 * math.hypot(0.15, 0.1),
+            "closed form mu N r_corner (30.29 N m)",
+        ),
+    ),
+    *(
+        (
+            "resultant",
+            ClosedForm(
+                f"pure torsion, seed interface, uniform pressure [resultant, {torsion}] [N m]",
+                _torsion_scene,
+                _c_t_rectangle(0.3, 0.2) * 0.7 * 240.0,
+                "seed 001 Eq. (11)-(12), c_T mu N (16.26 N m)",
+                {"torsion": torsion},
+            ),
+        )
+        for torsion in ("interaction", "independent")
+    ),
+)
+"""(interface model, closed form) of the torsion capacity of one joint."""
+
+CLOSED_FORMS_NOTES = (
+    "Each row: our multiplier against its closed form (`rel_error`); the certificate "
+    "columns are the relative duality gap and the worst certificate residual. Clarabel "
+    "tolerances 1e-9 on a programme scaled by the total weight."
+)
+
+
 def run_closed_forms(quick: bool = True):
     """Every closed form of issue 4, one row each, both interface models."""
     _quiet()
-    rows: list[Row] = []
+    cases = [(model, form) for model in MODELS for form in BLOCK_FORMS] + list(TORSION_FORMS)
+    rows = [_closed_form_row(model, form) for model, form in cases]
+    for model in MODELS:
+        rows += _harmonic_rows(model)
+    return rows, CLOSED_FORMS_NOTES
 
-    def add(quantity, scene, settings, expected, source):
+
+def _closed_form_row(model: str, form: ClosedForm) -> Row:
+    """Our multiplier of one closed form under one interface model, with its certificate."""
+    scene = form.scene()
+    expected = form.expected(scene) if callable(form.expected) else form.expected
+    settings = LimitSettings(interface_model=model)
+    if form.changes:
+        settings = settings.with_(**form.changes)
+    t = time.perf_counter()
+    res = limit_analysis(scene, settings)
+    return Row(
+        form.quantity.format(model=model),
+        res.lambda_estimate,
+        expected,
+        form.source,
+        time.perf_counter() - t,
+        settings.to_dict(),
+        {
+            "model": settings.interface_model,
+            "status": res.status,
+            "duality_gap": res.certificate.duality_gap,
+            "certificate_worst": res.certificate.worst(),
+        },
+    )
+
+
+def _harmonic_rows(model: str, eps: float = 1e-3) -> list[Row]:
+    """A harmonic stack of 4 stands just below the classical overhang and falls just above."""
+    rows = []
+    for factor, expected in ((1 - eps, 1.0), (1 + eps, 0.0)):
         t = time.perf_counter()
-        res = limit_analysis(scene, settings)
+        try:
+            limit_analysis(_harmonic_scene(4, factor), LimitSettings(interface_model=model))
+            stands = 1.0
+        except LimitAnalysisError:
+            stands = 0.0
         rows.append(
             Row(
-                quantity,
-                res.lam,
+                f"harmonic stack n = 4 at {factor:g} x classical overhang stands (1/0) [{model}]",
+                exact(stands, "a certified yes or no of the limit analysis"),
                 expected,
-                source,
+                "classical harmonic overhang (L/2) H_n",
                 time.perf_counter() - t,
-                settings.to_dict(),
-                {
-                    "model": settings.interface_model,
-                    "status": res.status,
-                    "duality_gap": res.certificate.duality_gap,
-                    "certificate_worst": res.certificate.worst(),
-                },
+                {"interface_model": model, "eps": eps},
+                {"model": model},
             )
         )
-
-    from dem.scenes.running_bond_wall import running_bond_wall
-
-    for model in MODELS:
-        s = LimitSettings(interface_model=model)
-        add(
-            f"single block b/h = 0.2/0.5, mu = 0.7: min(mu, b/h) [{model}]",
-            _block_scene(0.2, 0.3, 0.5, 0.7),
-            s,
-            0.4,
-            "closed form min(mu, b/h)",
-        )
-        add(
-            f"single block b/h = 1.0/0.2, mu = 0.5: min(mu, b/h) [{model}]",
-            _block_scene(1.0, 1.0, 0.2, 0.5),
-            s,
-            0.5,
-            "closed form min(mu, b/h)",
-        )
-        add(
-            f"free-standing running-bond wall 4 x 6, s/H = 100/300 [{model}]",
-            running_bond_wall(4, 6, 50.0, 200.0, 100.0, 20.0, mu=0.7),
-            s,
-            1.0 / 3.0,
-            "closed form s/H",
-        )
-        add(
-            f"sliding block, reduced friction mu* = mu/sqrt(1+mu^2), mu = 0.5 [{model}]",
-            _block_scene(1.0, 1.0, 0.2, 0.5),
-            s.with_(mu=reduced_friction(0.5)),
-            0.5 / math.sqrt(1.25),
-            "closed form mu*",
-        )
-        add(
-            f"sliding block pushed at pi/8 from a corner of the inscribed 8-gon: "
-            f"mu cos(pi/8) [{model}]",
-            _block_scene(
-                1.0, 1.0, 0.2, 0.5, direction=(math.cos(math.pi / 8), math.sin(math.pi / 8), 0.0)
-            ),
-            s.with_(friction_polygon=8),
-            0.5 * math.cos(math.pi / 8),
-            "closed form (facet normal of the inscribed polygon)",
-        )
-        fc = 2.0e4
-        blk = _block_scene(0.4, 0.3, 0.2, 0.8, direction=(0.0, 0.0, -1.0))
-        w = blk.assembly.mass[1] * 9.81
-        add(
-            f"centred block on a bed of f_c = 20 kPa: f_c A / W - 1 [{model}]",
-            blk,
-            s.with_(compressive_strength=fc),
-            fc * 0.12 / w - 1,
-            "closed form (uniform stress block)",
-        )
-        blk = _block_scene(0.2, 0.3, 0.5, 5.0)
-        w = blk.assembly.mass[1] * 9.81
-        add(
-            f"overturning with f_c = 20 kPa: (b - W/(f_c d))/h [{model}]",
-            blk,
-            s.with_(compressive_strength=fc),
-            (0.2 - w / (fc * 0.3)) / 0.5,
-            "closed form (stress block of width b - 2e)",
-        )
-        sig = 2.0e3
-        blk = _block_scene(1.0, 1.0, 0.2, 0.5)
-        w = blk.assembly.mass[1] * 9.81
-        add(
-            f"sliding with tensile strength 2 kPa: mu (1 + sigma_t A / W) [{model}]",
-            blk,
-            s.with_(tensile_strength=sig),
-            0.5 * (1 + sig * 1.0 / w),
-            "closed form (Coulomb apex at sigma_t, seed 001 Eq. 10)",
-        )
-    add(
-        "pure torsion, seed interface 0.3 x 0.2 m, N = 240 N, mu = 0.7 [vertex] [N m]",
-        _torsion_scene(),
-        LimitSettings(interface_model="vertex"),
-        0.7 * 240.0 * math.hypot(0.15, 0.1),
-        "closed form mu N r_corner (30.29 N m)",
-    )
-    for torsion in ("interaction", "independent"):
-        add(
-            f"pure torsion, seed interface, uniform pressure [resultant, {torsion}] [N m]",
-            _torsion_scene(),
-            LimitSettings(interface_model="resultant", torsion=torsion),
-            _c_t_rectangle(0.3, 0.2) * 0.7 * 240.0,
-            "seed 001 Eq. (11)-(12), c_T mu N (16.26 N m)",
-        )
-    eps = 1e-3
-    for model in MODELS:
-        for factor, expected in ((1 - eps, 1.0), (1 + eps, 0.0)):
-            t = time.perf_counter()
-            try:
-                limit_analysis(_harmonic_scene(4, factor), LimitSettings(interface_model=model))
-                stands = 1.0
-            except LimitAnalysisError:
-                stands = 0.0
-            rows.append(
-                Row(
-                    f"harmonic stack n = 4 at {factor:g} x classical overhang stands (1/0) "
-                    f"[{model}]",
-                    stands,
-                    expected,
-                    "classical harmonic overhang (L/2) H_n",
-                    time.perf_counter() - t,
-                    {"interface_model": model, "eps": eps},
-                    {"model": model},
-                )
-            )
-    notes = (
-        "Each row: our multiplier against its closed form (`rel_error`); the certificate "
-        "columns are the relative duality gap and the worst certificate residual. Clarabel "
-        "tolerances 1e-9 on a programme scaled by the total weight."
-    )
-    return rows, notes
+    return rows
 
 
 # ----------------------------------------------------------------------------------------------
@@ -412,142 +471,166 @@ def _save_mechanism(key: str, scene: Scene, result) -> str:
 
     try:
         # into the run's staging directory: moved into place with the table (report.staged)
-        write_mechanism(scene, result, output_dir() / MECHANISM_DIR.name / key)
-        return str((MECHANISM_DIR / key).with_suffix(".npz"))
+        write_mechanism(scene, result, output_dir() / MECHANISM_DIR / key)
+        return final_path(f"{MECHANISM_DIR}/{key}.npz")
     except Exception as exc:  # pyvista missing or a write error: the table still stands
         logger.warning("could not write the mechanism of %s: %s", key, exc)
         return ""
 
 
+ORDUNA_VARIANTS = ("translations", "fixed", "out-of-plane")
+ORDUNA_SOURCE = f"{SEED} Table 1 (Orduna & Lourenco 2005b limit analysis)"
+
+ORDUNA_NOTES_HEAD = (
+    "Seed 001 Table 1: Orduna & Lourenco (2005b) limit analysis 0.127 / 0.193, FEM "
+    "0.210 / 0.260, seed DEM 0.175 / 0.215. The `reference` of every row is the seed's "
+    "limit-analysis value. The seed does not state the column restraint or f_c behind "
+    "those values; we try: `translations` (the seed's words: translations of the "
+    "column blocks fixed, rotations free), `fixed` (translations and rotations), "
+    "`out-of-plane` (only u_y of the column blocks), and finite compressive strengths "
+    "(uniform stress block on the reduced rectangle) where horizontal arching between "
+    "two rigid columns makes the 6 x 13 wall unbounded with unlimited f_c (rows with "
+    "`status = unbounded`)."
+)
+
+ORDUNA_NOTES_TAIL = (
+    "Inscribed friction polygons (4, 8, 16 sides, corners on the interface axes, so "
+    "each lies inside the next) shrink every cone and can only lower the multiplier, "
+    "which rises monotonically towards the exact value as the sides double (rows with "
+    "`change_vs_exact`); a circumscribed polygon would "
+    "enlarge the cones and is never safe for a static (lower-bound-type) statement.",
+    "",
+    "Our associated upper bounds lie far above 0.127 / 0.193 (and above the FEM "
+    "values): with dilatant (associated) friction the diagonal stair-stepped crack "
+    "must open as it slides. The non-associated estimates come down but stay above the "
+    "seed's numbers; estimates are not bounds. The DEM of this repository on the same "
+    "panels is compared with these bounds in the `limit-vs-dem` case.",
+    "",
+    RESULTANT_NOTE,
+)
+
+
 def run_orduna(quick: bool = True):
     """Seed 001 Table 1: the two Orduna & Lourenco (2005b) panels, support and f_c variants."""
     _quiet()
+    fcs = (None, 3.0e6) if quick else (None, 1.0e6, 3.0e6, 10.0e6)
+    rows, summaries = _orduna_bounds_rows(fcs, max_updates=10 if quick else 30)
+    # inscribed friction polygons against the exact cones (what linearisation changes)
+    for n, variant in ((3, "translations"), (6, "out-of-plane")):
+        rows += _friction_polygon_rows(n, variant)
+    lines = [_closest_variant_line(n, summaries) for n in (3, 6)]
+    notes = "\n".join([ORDUNA_NOTES_HEAD, "", *filter(None, lines), "", *ORDUNA_NOTES_TAIL])
+    return rows, notes
+
+
+def _orduna_bounds_rows(fcs, max_updates: int) -> tuple[list[Row], list[tuple]]:
+    """Bounds and estimates of both panels, each support variant and compressive strength
+    ``fcs`` [Pa] (None: unlimited); the mechanisms of unlimited f_c are saved. Returns the rows
+    and (n, variant, fc, model, summary, seed limit value) per run."""
     from dem.scenes.seed001_walls import SPECIMENS
 
     rows: list[Row] = []
     summaries = []
-    variants = ("translations", "fixed", "out-of-plane")
-    fcs = (None, 3.0e6) if quick else (None, 1.0e6, 3.0e6, 10.0e6)
-    max_updates = 10 if quick else 30
     for n in (3, 6):
         spec = SPECIMENS[f"orduna-{n}x13"]
         lim, fem = spec.references["limit"], spec.references["fem"]
-        for variant in variants:
+        for variant in ORDUNA_VARIANTS:
             scene = _orduna_variant(n, variant)
             for fc in fcs:
                 if fc is not None and not (n == 6 and variant != "out-of-plane"):
                     continue  # f_c only matters where arching carries the load
+                label = f"orduna {n}x13, {variant}" + (
+                    "" if fc is None else f", f_c = {fc / 1e6:g} MPa"
+                )
+                extra = {
+                    "seed_limit": lim,
+                    "seed_fem": fem,
+                    "seed_dem": spec.seed_dem,
+                    "variant": variant,
+                    "f_c_MPa": None if fc is None else fc / 1e6,
+                }
                 for model in MODELS:
-                    label = f"orduna {n}x13, {variant}" + (
-                        "" if fc is None else f", f_c = {fc / 1e6:g} MPa"
-                    )
-                    settings = _joint_settings(spec, model, compressive_strength=fc)
                     r, summ = _bounds_rows(
                         label,
                         scene,
-                        settings,
+                        _joint_settings(spec, model, compressive_strength=fc),
                         reference=lim,
-                        source=f"{SEED} Table 1 (Orduna & Lourenco 2005b limit analysis)",
+                        source=ORDUNA_SOURCE,
                         max_updates=max_updates,
                         est_reference=lim,
-                        extra={
-                            "seed_limit": lim,
-                            "seed_fem": fem,
-                            "seed_dem": spec.seed_dem,
-                            "variant": variant,
-                            "f_c_MPa": None if fc is None else fc / 1e6,
-                        },
+                        extra=extra,
                     )
                     rows += r
                     summaries.append((n, variant, fc, model, summ, lim))
                     if fc is None and "bounds" in summ:
                         key = f"orduna-{n}x13-{variant}_{model}"
                         _save_mechanism(key, scene, summ["bounds"].associated)
-    # inscribed friction polygons against the exact cones (what linearisation changes)
-    for n, variant in ((3, "translations"), (6, "out-of-plane")):
-        spec = SPECIMENS[f"orduna-{n}x13"]
-        scene = _orduna_variant(n, variant)
-        exact = {}
-        for sides in (None, 4, 8, 16):
-            for model in MODELS:
-                settings = _joint_settings(spec, model, friction_polygon=sides)
-                t = time.perf_counter()
-                try:
-                    lam = limit_analysis(scene, settings).lam
-                except LimitAnalysisError as exc:
-                    logger.info("polygon %s failed: %s", sides, exc)
-                    lam = None
-                if sides is None:
-                    exact[model] = lam
-                    continue
-                rows.append(
-                    Row(
-                        f"orduna {n}x13, {variant} [{model}] upper bound, inscribed "
-                        f"{sides}-gon friction lambda [-]",
-                        lam,
-                        exact[model],
-                        "the same programme with exact cones",
-                        time.perf_counter() - t,
-                        settings.to_dict(),
-                        {
-                            "kind": "upper bound (inscribed polygon: smaller set)",
-                            "variant": variant,
-                            "change_vs_exact": None
-                            if lam is None or exact[model] is None
-                            else lam / exact[model] - 1,
-                        },
-                    )
+    return rows, summaries
+
+
+def _friction_polygon_rows(n: int, variant: str) -> list[Row]:
+    """Upper bounds with inscribed 4-, 8- and 16-gon friction against the exact cones."""
+    from dem.scenes.seed001_walls import SPECIMENS
+
+    spec = SPECIMENS[f"orduna-{n}x13"]
+    scene = _orduna_variant(n, variant)
+    rows: list[Row] = []
+    exact = {}
+    for sides in (None, 4, 8, 16):
+        for model in MODELS:
+            settings = _joint_settings(spec, model, friction_polygon=sides)
+            t = time.perf_counter()
+            try:
+                res = limit_analysis(scene, settings)
+                lam, est = res.lam, res.lambda_estimate
+            except LimitAnalysisError as exc:
+                logger.info("polygon %s failed: %s", sides, exc)
+                lam = est = None
+            if sides is None:
+                exact[model] = lam
+                continue
+            rows.append(
+                Row(
+                    f"orduna {n}x13, {variant} [{model}] upper bound, inscribed "
+                    f"{sides}-gon friction lambda [-]",
+                    est,
+                    exact[model],
+                    "the same programme with exact cones",
+                    time.perf_counter() - t,
+                    settings.to_dict(),
+                    {
+                        "kind": "upper bound (inscribed polygon: smaller set)",
+                        "variant": variant,
+                        "change_vs_exact": None
+                        if lam is None or exact[model] is None
+                        else lam / exact[model] - 1,
+                    },
                 )
-    # which variant matches the seed's limit-analysis value best (estimate b, else a)
-    lines = []
-    for n in (3, 6):
-        best = None
-        for nn, variant, fc, model, summ, lim in summaries:
-            if nn != n:
-                continue
-            est = summ.get("iterative") or summ.get("reduced_mu")
-            if est is None or not math.isfinite(est):
-                continue
-            d = abs(est - lim) / lim
-            if best is None or d < best[0]:
-                best = (d, variant, fc, model, est, summ.get("upper"), lim)
-        if best:
-            d, variant, fc, model, est, up, lim = best
-            lines.append(
-                f"- {n}x13: closest to the seed's limit value {lim}: {variant}"
-                f"{'' if fc is None else f', f_c = {fc / 1e6:g} MPa'} [{model}], estimate "
-                f"{est:.3f} ({100 * d:.0f} % off), upper bound {up:.3f}."
             )
-    notes = "\n".join(
-        [
-            "Seed 001 Table 1: Orduna & Lourenco (2005b) limit analysis 0.127 / 0.193, FEM "
-            "0.210 / 0.260, seed DEM 0.175 / 0.215. The `reference` of every row is the seed's "
-            "limit-analysis value. The seed does not state the column restraint or f_c behind "
-            "those values; we try: `translations` (the seed's words: translations of the "
-            "column blocks fixed, rotations free), `fixed` (translations and rotations), "
-            "`out-of-plane` (only u_y of the column blocks), and finite compressive strengths "
-            "(uniform stress block on the reduced rectangle) where horizontal arching between "
-            "two rigid columns makes the 6 x 13 wall unbounded with unlimited f_c (rows with "
-            "`status = unbounded`).",
-            "",
-            *lines,
-            "",
-            "Inscribed friction polygons (4, 8, 16 sides, corners on the interface axes, so "
-            "each lies inside the next) shrink every cone and can only lower the multiplier, "
-            "which rises monotonically towards the exact value as the sides double (rows with "
-            "`change_vs_exact`); a circumscribed polygon would "
-            "enlarge the cones and is never safe for a static (lower-bound-type) statement.",
-            "",
-            "Our associated upper bounds lie far above 0.127 / 0.193 (and above the FEM "
-            "values): with dilatant (associated) friction the diagonal stair-stepped crack "
-            "must open as it slides. The non-associated estimates come down but stay above the "
-            "seed's numbers; estimates are not bounds. The DEM of this repository on the same "
-            "panels is compared with these bounds in the `limit-vs-dem` case.",
-            "",
-            RESULTANT_NOTE,
-        ]
+    return rows
+
+
+def _closest_variant_line(n: int, summaries) -> str:
+    """Which variant's estimate (b, else a) matches the seed's limit value of panel n x 13
+    best, as a markdown list item ('' if none has a finite estimate)."""
+    best = None
+    for nn, variant, fc, model, summ, lim in summaries:
+        if nn != n:
+            continue
+        est = summ.get("iterative") or summ.get("reduced_mu")
+        if est is None or not math.isfinite(est):
+            continue
+        d = abs(est - lim) / lim
+        if best is None or d < best[0]:
+            best = (d, variant, fc, model, est, summ.get("upper"), lim)
+    if not best:
+        return ""
+    d, variant, fc, model, est, up, lim = best
+    return (
+        f"- {n}x13: closest to the seed's limit value {lim}: {variant}"
+        f"{'' if fc is None else f', f_c = {fc / 1e6:g} MPa'} [{model}], estimate "
+        f"{est:.3f} ({100 * d:.0f} % off), upper bound {up:.3f}."
     )
-    return rows, notes
 
 
 # ----------------------------------------------------------------------------------------------
@@ -634,6 +717,18 @@ def run_chee_liang(quick: bool = True):
 # ----------------------------------------------------------------------------------------------
 
 _DEM_MATCH = {"resultant": "resultant", "fibre": "vertex"}
+VS_DEM_QUICK = ("orduna-3x13", "orduna-6x13", "restrepo-S15", "restrepo-S13", "chee-liang-8-12")
+
+VS_DEM_NOTES = (
+    "`ours` = the DEM collapse multiplier (dem.static.solve_collapse), `reference` = "
+    "the associated upper bound of the matching interface model: DEM `resultant` "
+    "(seed 001 Eq. 9-14 with alpha = 1.5 for both) against our `resultant` model, DEM "
+    "`fibre` (no-tension Coulomb springs inside the polygon) against our `vertex` "
+    "model (the exact rigid joint, which contains any spring grid). `within_bounds` "
+    "is true when lambda_DEM <= the upper bound. Our resultant set contains the DEM's "
+    "(the DEM reduces torsion with bending; we do not), so the comparison is an upper "
+    "bound test in both pairs."
+)
 
 
 def run_vs_dem(quick: bool = True):
@@ -642,93 +737,26 @@ def run_vs_dem(quick: bool = True):
     from dem.scenes.seed001_walls import SPECIMENS
 
     try:
-        from dem.static import StaticSettings, solve_collapse
+        import dem.static  # noqa: F401 (used by _dem_collapse)
     except ImportError as exc:
         return [], f"dem.static is unavailable ({exc}): no DEM values to compare."
     rows: list[Row] = []
-    keys = list(SPECIMENS)
-    if quick:
-        keys = ["orduna-3x13", "orduna-6x13", "restrepo-S15", "restrepo-S13", "chee-liang-8-12"]
+    keys = list(VS_DEM_QUICK) if quick else list(SPECIMENS)
     failures = []
     for key in keys:
         spec = SPECIMENS[key]
         scene = spec.build()
-        pressure = spec.table == "Table 3"
-        unit = KPA if pressure else 1.0
         for dem_model, our_model in _DEM_MATCH.items():
             settings = _joint_settings(spec, our_model)
-            t = time.perf_counter()
-            try:
-                b = bounds_and_estimates(scene, settings, iterate=not quick, max_updates=30)
-                upper, est_a = b.upper, b.reduced_mu
-                est_b = None if b.iterative is None else b.iterative.lam
-                lower = b.lower
-                our_err = ""
-            except LimitAnalysisError as exc:
-                upper = math.inf if "unbounded" in str(exc) else None
-                est_a = est_b = lower = None
-                our_err = str(exc)[:120]
-            t_lim = time.perf_counter() - t
-            t = time.perf_counter()
-            dem_termination, lam_reached = "error", None
-            try:
-                dem = solve_collapse(
-                    scene,
-                    StaticSettings(
-                        interface_model=dem_model,
-                        alpha=settings.torsion_alpha if dem_model == "resultant" else None,
-                        mu=spec.joint.mu,
-                        tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
-                        on_failure="return",
-                    ),
-                )
-                dem_termination, lam_reached = dem.termination, float(dem.lambda_max)
-                # a run that did not collapse has no collapse multiplier to compare
-                lam_dem = lam_reached if dem.collapsed else None
-                dem_err = dem.failure
-                if not dem.collapsed:
-                    failures.append(f"{key} {dem_model} ({dem.termination})")
-            except Exception as exc:  # the DEM's own failure is reported, not hidden
-                lam_dem, dem_err = None, f"{type(exc).__name__}: {str(exc)[:120]}"
-                failures.append(f"{key} {dem_model}")
-            t_dem = time.perf_counter() - t
-            within = None
-            if lam_dem is not None and upper is not None:
-                within = bool(lam_dem <= upper * (1 + 1e-6) + 1e-9)
-            rows.append(
-                Row(
-                    f"{key}: DEM {dem_model} vs {our_model} upper bound "
-                    f"{'p [kN/m^2]' if pressure else 'lambda [-]'}",
-                    None if lam_dem is None else lam_dem / unit,
-                    None if upper is None else upper / unit,
-                    f"associated upper bound, {our_model} model (limit analysis)",
-                    t_dem,
-                    {"dem_model": dem_model, "alpha": settings.torsion_alpha, **settings.to_dict()},
-                    {
-                        "within_bounds": within,
-                        "dem_termination": dem_termination,
-                        "dem_lambda_reached": None if lam_reached is None else lam_reached / unit,
-                        "estimate_a_mu_star": None if est_a is None else est_a / unit,
-                        "estimate_b_iterative": None if est_b is None else est_b / unit,
-                        "lower_frictionless": None if lower is None else lower / unit,
-                        "seed_dem": spec.seed_dem,
-                        "reference": spec.reference,
-                        "limit_wall_s": t_lim,
-                        "dem_error": dem_err,
-                        "limit_error": our_err,
-                    },
-                )
-            )
+            bounds = _limit_values(scene, settings, iterate=not quick)
+            dem = _dem_collapse(scene, spec, settings, dem_model)
+            if not dem["collapsed"]:
+                note = "" if dem["raised"] else f" ({dem['termination']})"
+                failures.append(f"{key} {dem_model}{note}")
+            rows.append(_vs_dem_row(key, spec, dem_model, our_model, settings, bounds, dem))
     notes = "\n".join(
         [
-            "`ours` = the DEM collapse multiplier (dem.static.solve_collapse), `reference` = "
-            "the associated upper bound of the matching interface model: DEM `resultant` "
-            "(seed 001 Eq. 9-14 with alpha = 1.5 for both) against our `resultant` model, DEM "
-            "`fibre` (no-tension Coulomb springs inside the polygon) against our `vertex` "
-            "model (the exact rigid joint, which contains any spring grid). `within_bounds` "
-            "is true when lambda_DEM <= the upper bound. Our resultant set contains the DEM's "
-            "(the DEM reduces torsion with bending; we do not), so the comparison is an upper "
-            "bound test in both pairs.",
+            VS_DEM_NOTES,
             "",
             f"Cases: {'a quick subset' if quick else 'every masonry specimen'} ({len(keys)}).",
             "A DEM run that did not collapse (termination `max_steps`, `stalled` or "
@@ -738,6 +766,99 @@ def run_vs_dem(quick: bool = True):
         ]
     )
     return rows, notes
+
+
+def _limit_values(scene: Scene, settings: LimitSettings, iterate: bool) -> dict:
+    """Upper bound, estimates (a) and (b), lower bound, error text and wall time [s] of the
+    limit analysis; a failed analysis gives None (inf for an unbounded upper bound)."""
+    t = time.perf_counter()
+    try:
+        b = bounds_and_estimates(scene, settings, iterate=iterate, max_updates=30)
+        out = {
+            "upper": b.upper,
+            "est_a": b.reduced_mu,
+            "est_b": None if b.iterative is None else b.iterative.lam,
+            "lower": b.lower,
+            "error": "",
+        }
+    except LimitAnalysisError as exc:
+        out = {
+            "upper": math.inf if "unbounded" in str(exc) else None,
+            "est_a": None,
+            "est_b": None,
+            "lower": None,
+            "error": str(exc)[:120],
+        }
+    out["wall_s"] = time.perf_counter() - t
+    return out
+
+
+def _dem_collapse(scene: Scene, spec, settings: LimitSettings, dem_model: str) -> dict:
+    """The DEM collapse of ``scene`` with the joint of ``spec``: its multiplier (None without a
+    collapse), where the path ended, termination, error, wall time [s], whether it collapsed
+    and whether it raised. The DEM's own failure is reported, not raised."""
+    from dem.static import StaticSettings, solve_collapse
+
+    t = time.perf_counter()
+    out = {"termination": "error", "reached": None, "collapsed": False, "raised": False}
+    try:
+        dem = solve_collapse(
+            scene,
+            StaticSettings(
+                interface_model=dem_model,
+                alpha=settings.torsion_alpha if dem_model == "resultant" else None,
+                mu=spec.joint.mu,
+                tensile_strength=spec.joint.tensile_strength_mpa * 1e6,
+                on_failure="return",
+            ),
+        )
+        out["termination"], out["reached"] = dem.termination, float(dem.lambda_max)
+        out["estimate"] = static_lambda(dem) if dem.collapsed else None
+        # a run that did not collapse has no collapse multiplier to compare
+        out["lam"] = out["reached"] if dem.collapsed else None
+        out["error"] = dem.failure
+        out["collapsed"] = bool(dem.collapsed)
+    except Exception as exc:  # the DEM's own failure is reported, not hidden
+        out["lam"], out["error"] = None, f"{type(exc).__name__}: {str(exc)[:120]}"
+        out["raised"] = True
+    out["wall_s"] = time.perf_counter() - t
+    return out
+
+
+def _vs_dem_row(key, spec, dem_model, our_model, settings, bounds: dict, dem: dict) -> Row:
+    """One specimen and model pair: the DEM multiplier against the upper bound."""
+    pressure = spec.table == "Table 3"
+    unit = KPA if pressure else 1.0
+
+    def scaled(value):
+        return None if value is None else value / unit
+
+    lam_dem, upper = dem["lam"], bounds["upper"]
+    within = None
+    if lam_dem is not None and upper is not None:
+        within = bool(lam_dem <= upper * (1 + 1e-6) + 1e-9)
+    return Row(
+        f"{key}: DEM {dem_model} vs {our_model} upper bound "
+        f"{'p [kN/m^2]' if pressure else 'lambda [-]'}",
+        None if lam_dem is None else per_unit(dem.get("estimate"), unit, lam_dem),
+        scaled(upper),
+        f"associated upper bound, {our_model} model (limit analysis)",
+        dem["wall_s"],
+        {"dem_model": dem_model, "alpha": settings.torsion_alpha, **settings.to_dict()},
+        {
+            "within_bounds": within,
+            "dem_termination": dem["termination"],
+            "dem_lambda_reached": scaled(dem["reached"]),
+            "estimate_a_mu_star": scaled(bounds["est_a"]),
+            "estimate_b_iterative": scaled(bounds["est_b"]),
+            "lower_frictionless": scaled(bounds["lower"]),
+            "seed_dem": spec.seed_dem,
+            "reference": spec.reference,
+            "limit_wall_s": bounds["wall_s"],
+            "dem_error": dem["error"],
+            "limit_error": bounds["error"],
+        },
+    )
 
 
 CASES = {

@@ -39,12 +39,14 @@ from dem.scenes.seed001_walls import (
 )
 from dem.static import StaticResult, StaticSettings, StaticSolverError, solve_collapse
 from dem.units import MPA, N_MM3
-from validation.report import RESULTS_DIR, Row
+from validation.cases.bars import static_lambda
+from validation.report import Row, final_path, input_path, output_dir
 
 logger = logging.getLogger(__name__)
 
-RUN_DIR = RESULTS_DIR / "masonry"
-COLLAPSE_STATE = RESULTS_DIR / "masonry-collapse-state.npz"
+RUN_DIR = "masonry"
+"""Folder of the runs' side products, inside the results folder."""
+COLLAPSE_STATE = "masonry-collapse-state.npz"
 SEED_TABLE2_MEAN_ERROR = 0.096  # the seed's own DEM over Table 2 (mean |DEM - exp| / exp)
 
 
@@ -71,11 +73,12 @@ def _settings(spec: SeedSpecimen, model: str, quick: bool) -> StaticSettings:
 
 
 def _save_run(tag: str, scene, result: StaticResult) -> str:
-    RUN_DIR.mkdir(parents=True, exist_ok=True)
-    scene_path = RUN_DIR / f"{tag}.scene.json"
+    run_dir = output_dir() / RUN_DIR
+    run_dir.mkdir(parents=True, exist_ok=True)
+    scene_path = run_dir / f"{tag}.scene.json"
     scene.to_json(scene_path)
     np.savez_compressed(
-        RUN_DIR / f"{tag}.npz",
+        run_dir / f"{tag}.npz",
         pushover_lambda=result.pushover_lambda,
         pushover_control=result.pushover_control,
         pushover_monitor=result.pushover_monitor,
@@ -88,9 +91,9 @@ def _save_run(tag: str, scene, result: StaticResult) -> str:
         interface_forces=result.interface_forces,
         block_a=result.block_a,
         block_b=result.block_b,
-        scene_json=str(scene_path.relative_to(RESULTS_DIR.parent.parent)),
+        scene_json=final_path(f"{RUN_DIR}/{scene_path.name}"),
     )
-    return str(scene_path)
+    return final_path(f"{RUN_DIR}/{scene_path.name}")
 
 
 def _row(
@@ -116,7 +119,7 @@ def _row(
     wall = time.perf_counter() - start
     # a run that did not collapse has no collapse multiplier: never reported as one
     collapsed = result is not None and result.collapsed
-    ours = result.lambda_max * scale if collapsed else None
+    ours = static_lambda(result, scale) if collapsed else None
     extra = {
         "model": model,
         "supports_variant": variant,
@@ -143,7 +146,7 @@ def _row(
             "static": settings.to_dict(),
             "assumptions": spec.assumptions,
             "supports": spec.supports,
-            "run": f"validation/results/masonry/{tag}.npz",
+            "run": final_path(f"{RUN_DIR}/{tag}.npz"),
         },
         extra=extra,
     )
@@ -187,13 +190,14 @@ def _no_collapse_list(rows: list[Row]) -> str:
 
 FIBRE_CHECK_POINTS = 7
 """Lobatto points per side of the fibre law's grid check (the default grid has 5)."""
+FIBRE_GRID_SOURCE = f"fibre grid (against {FIBRE_CHECK_POINTS} points per side)"
 
 
 def _fibre_grid_check(row: Row, result: StaticResult | None, scene, settings) -> None:
     """Rerun a fibre-law row (``result`` of ``scene`` under ``settings``) on a finer grid
     (``FIBRE_CHECK_POINTS`` per side) and record that lambda [-] and its relative change in
     ``row.extra``: the discretisation error of the grid the row used (no change where either
-    run does not collapse)."""
+    run does not collapse), also added to the row's error sources."""
     check = replace(settings, fibre_points=FIBRE_CHECK_POINTS)
     try:
         finer = solve_collapse(scene, check)
@@ -205,6 +209,10 @@ def _fibre_grid_check(row: Row, result: StaticResult | None, scene, settings) ->
     row.extra["lambda_fibre_check"] = lam
     base = result.lambda_max if result is not None and result.collapsed else None
     row.extra["fibre_grid_change"] = None if base is None or lam is None else lam / base - 1.0
+    if row.ours is not None and base is not None and lam is not None:
+        # the grid's share of the bar, measured: lambda scales with the row's unit
+        width = abs(lam - base) * abs(row.ours / base)
+        row.error_sources = {**row.error_sources, FIBRE_GRID_SOURCE: width}
 
 
 def _grid_note(rows: list[Row]) -> str:
@@ -228,14 +236,15 @@ def _grid_note(rows: list[Row]) -> str:
 
 
 KERNELS = ("Haswell", "SkylakeX", "Sandybridge")
-KERNEL_RESULTS = RESULTS_DIR / "masonry-restrepo-kernels.json"
+KERNEL_RESULTS = "masonry-restrepo-kernels.json"
 
 
 def _kernel_note() -> str:
     """The spread across OpenBLAS kernels from the last ``masonry-restrepo-kernels`` run."""
-    if not KERNEL_RESULTS.exists():
+    path = input_path(KERNEL_RESULTS)
+    if not path.exists():
         return "no `masonry-restrepo-kernels` run yet: the spread across BLAS kernels is unknown."
-    data = json.loads(KERNEL_RESULTS.read_text())
+    data = json.loads(path.read_text())
     lines = ["| run | lambda per kernel | spread | terminations |", "|---|---|---|---|"]
     for r in data["rows"]:
         lams = r["extra"]["lambda_per_kernel"]
@@ -399,16 +408,15 @@ def run_orduna(quick: bool = True):
 
 
 def _write_collapse_state(scene, result: StaticResult) -> None:
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    scene_path = RESULTS_DIR / "masonry-collapse-state.scene.json"
-    scene.to_json(scene_path)
+    scene_name = "masonry-collapse-state.scene.json"
+    scene.to_json(output_dir() / scene_name)
     np.savez(
-        COLLAPSE_STATE,
+        output_dir() / COLLAPSE_STATE,
         interface_block_a=result.block_a.astype(np.int64),
         interface_block_b=result.block_b.astype(np.int64),
         resultants=result.interface_forces,
         lambda_max=result.lambda_max,
-        scene_json=str(scene_path.relative_to(RESULTS_DIR.parent.parent)),
+        scene_json=final_path(scene_name),
     )
 
 

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.explicit import (
     ExplicitSettings,
     IndentationResult,
@@ -41,7 +42,8 @@ from dem.tis_stiffness import (
     tis_panel_k_def,
 )
 from dem.units import GPA, MM
-from validation.report import RESULTS_DIR, Row
+from validation.cases.bars import two_levels
+from validation.report import Row, output_dir
 
 logger = logging.getLogger(__name__)
 
@@ -163,12 +165,12 @@ def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict)
         Row(f"{label}: loading energy [N mm]", res.loading_energy / MM, None, "", wall, settings),
         Row(
             f"{label}: ultimate deflection [mm]",
-            res.ultimate_deflection / MM,
+            None if math.isnan(res.ultimate_deflection) else res.ultimate_deflection / MM,
             None,
             "",
             wall,
             settings,
-            # nan when the run stopped before the block was out: blocks passing through
+            # no value when the run stopped before the block was out: blocks passing through
             # each other where no contact node was seeded (dem.explicit.unmodelled)
             {"stopped_by": res.info.get("stopped_by", "")},
         ),  # fmt: skip
@@ -217,8 +219,20 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
     disc = QUICK if quick else CONVERGED
     panels = [(3, 2.5), (5, 2.5)] if quick else PANELS
     calibrated_panels = [(3, 2.5)] if quick else PANELS
-    rows: list[Row] = []
     store: dict = {}
+    rows, results = _panel_runs(panels, calibrated_panels, disc, quick, store)
+    rows += _calibration_ratio_rows(results, disc)
+    rows += _trend_rows(panels, results)
+    rows += _stability_rows(quick, disc, store)
+    np.savez(output_dir() / "tis-panels-curves.npz", **store)
+    return rows, _panels_notes(disc, quick)
+
+
+def _panel_runs(panels, calibrated_panels, disc: dict, quick: bool, store: dict):
+    """Every panel run, perfect and (where listed) calibrated: their curve rows and results
+    by ``(n, theta, model)``; the 5 x 5, 2.5 deg perfect panel's peak state is written for
+    the FEM case."""
+    rows: list[Row] = []
     results: dict = {}
     for n, theta in panels:
         models = ["perfect"] + (["calibrated"] if (n, theta) in calibrated_panels else [])
@@ -236,9 +250,14 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
             rows += _curve_rows(label, res, _disc_settings(disc, k_n), extra)
             _store_curves(store, f"{n}x{n}_{theta:g}_{model}", res, scene)
             if (n, theta, model) == (5, 2.5, "perfect"):
-                RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-                np.savez(RESULTS_DIR / "tis-peak-state.npz", **res.peak_state)
-    # ratios the seed's Tables 1 and 2 imply, and the exact homogeneity prediction
+                np.savez(output_dir() / "tis-peak-state.npz", **res.peak_state)
+    return rows, results
+
+
+def _calibration_ratio_rows(results: dict, disc: dict) -> list[Row]:
+    """Calibrated over perfect peak load and energy, against the ratios the seed's Tables 1
+    and 2 imply and the exact homogeneity prediction ``k_imp / k_def``."""
+    rows: list[Row] = []
     for (n, theta, model), res in results.items():
         if model != "calibrated":
             continue
@@ -262,7 +281,13 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
             "seed 000 1/(Table 1 x Table 2)" if ref_e else "", None, settings,
             {"k_imp_over_k_def": k_ratio},
         ))  # fmt: skip
-    # trend with block size at each theta (seed 000 Sec. 5.1.3: load and energy grow with size)
+    return rows
+
+
+def _trend_rows(panels, results: dict) -> list[Row]:
+    """Peak load against block size at each theta (seed 000 Sec. 5.1.3: load and energy grow
+    with size) and against theta at each size."""
+    rows: list[Row] = []
     for theta in sorted({t for _, t in panels}):
         sizes = [n for n, t in panels if t == theta]
         if len(sizes) < 2:
@@ -285,10 +310,11 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
             peaks[-1] / peaks[0], None, "", None, {},
             {"increasing_with_theta": bool(np.all(np.diff(peaks) > 0))},
         ))  # fmt: skip
-    rows += _stability_rows(quick, disc, store)
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-panels-curves.npz", **store)
-    notes = (
+    return rows
+
+
+def _panels_notes(disc: dict, quick: bool) -> str:
+    return (
         "Explicit LS-DEM-style runs (dem.explicit). k_def = (n+1) E / L with E = 18.75 GPa, "
         "implied by the seed's 2.25 GPa/mm for the 5x5 panel; k_imp by Eq. (4) with k_gaps = "
         "0.65 GPa/mm. delta is the indenter travel from first touch (it includes the sphere's "
@@ -296,13 +322,14 @@ def run_panels(quick: bool) -> tuple[list[Row], str]:
         "travel. Discretisation: "
         + ", ".join(f"{k}={v}" for k, v in disc.items())
         + (" (quick: coarse, not converged)." if quick else " (converged per tis-convergence).")
+        + " The rows' error bars are not estimated (`± ?`): the explicit DEM gives none of its "
+        "own yet, and tis-convergence measures the budget of the 5x5, 2.5 deg panel only."
         + " P_calibrated/P_perfect: the quasi-static problem is homogeneous in k_n (rigid "
         "blocks, penalty contact, Coulomb friction with k_t proportional to k_n, weight "
         "negligible), so the ratio must equal k_imp/k_def; the seed's Tables 1 and 2 imply "
         "different ratios for the 3x3 and 7x7 panels, which no choice of k_def per panel can "
         "give with one k_gaps."
     )
-    return rows, notes
 
 
 def _stability_rows(quick: bool, disc: dict, store: dict) -> list[Row]:
@@ -344,55 +371,89 @@ def _stability_rows(quick: bool, disc: dict, store: dict) -> list[Row]:
 
 
 # -- tis-convergence ------------------------------------------------------------------------------
+CONVERGENCE_SWEEPS = {
+    True: {
+        "node_spacing_mm": [2.0, 1.5, 1.0],
+        "speed_mm_s": [100.0, 50.0, 25.0],
+        "mass_scaling": [16.0, 4.0, 1.0],
+        "dt_safety": [0.5, 0.25],
+    },
+    False: {
+        "node_spacing_mm": [1.5, 1.0, 0.7, 0.5, 0.35, 0.25],
+        "speed_mm_s": [200.0, 100.0, 50.0, 25.0, 12.5],
+        "mass_scaling": [100.0, 10.0, 1.0],
+        "dt_safety": [0.5, 0.25],
+    },
+}
+"""Values of each discretisation parameter, coarse to fine, of ``tis-convergence`` (by
+``quick``)."""
+
+
+class _PeakRuns:
+    """Runs of the 5x5, 2.5 deg panel to 85 % past the peak, cached by discretisation."""
+
+    def __init__(self, k_n: float):
+        self.k_n = k_n
+        self.cache: dict = {}
+
+    def __call__(self, disc: dict):
+        key = tuple(sorted(disc.items()))
+        if key not in self.cache:
+            start = time.perf_counter()
+            # scaled masses relax with a damping force sqrt(mass_scaling) times larger: the
+            # sweep measures what that does, so the relaxation is not refused
+            scaled = RelaxationSettings(unbalanced_tol=math.inf)
+            res, _ = run_panel(5, 2.5, self.k_n, disc, stop_below_peak_fraction=0.85,
+                               relaxation=scaled if disc["mass_scaling"] > 1 else None)  # fmt: skip
+            self.cache[key] = (res, time.perf_counter() - start)
+        return self.cache[key]
+
+
 def run_convergence(quick: bool) -> tuple[list[Row], str]:
     """Node spacing, time step, loading rate and mass scaling for the 5x5, 2.5 degree panel."""
     _enable_progress()
-    n, theta = 5, 2.5
-    k_n = tis_panel_k_def(n)
+    k_n = tis_panel_k_def(5)
     base = dict(QUICK if quick else CONVERGED)
-    if quick:
-        sweeps = {
-            "node_spacing_mm": [2.0, 1.5, 1.0],
-            "speed_mm_s": [100.0, 50.0, 25.0],
-            "mass_scaling": [16.0, 4.0, 1.0],
-            "dt_safety": [0.5, 0.25],
-        }
-    else:
-        sweeps = {
-            "node_spacing_mm": [1.5, 1.0, 0.7, 0.5, 0.35, 0.25],
-            "speed_mm_s": [200.0, 100.0, 50.0, 25.0, 12.5],
-            "mass_scaling": [100.0, 10.0, 1.0],
-            "dt_safety": [0.5, 0.25],
-        }
-    rows: list[Row] = []
+    sweeps = CONVERGENCE_SWEEPS[quick]
     store: dict = {}
-    cache: dict = {}
+    rows, base_bars, finest_spacing = _sweep_rows(sweeps, base, _PeakRuns(k_n), store)
+    rows.append(_converged_row(base, k_n, base_bars, finest_spacing, sweeps, quick, store))
+    np.savez(output_dir() / "tis-convergence-curves.npz", **store)
+    notes = (
+        "5x5 panel, theta = 2.5 deg, k_n = 2.25 GPa/mm. Each sweep varies one parameter around "
+        f"the base {base} and runs until the load has dropped to 85 % of the peak; its error is "
+        "against the finest run of the same sweep. curve_rel_diff: largest |P - P_finest| over "
+        "the common deflection range before the peak, relative to the finest peak. Each peak's "
+        "error bar is its difference to the next finer run of its sweep; the converged row's bar "
+        "adds, per sweep, the difference between the base run and the next finer one. Mass scaling "
+        "s and speed v enter the dynamics through v sqrt(s) only (time scaling), so the two "
+        "sweeps test the same inertia effect. The converged row is the full run at the base "
+        "discretisation (relaxation + indentation until the central block is out)."
+        + (" Quick mode: coarse, the base is not converged." if quick else "")
+    )
+    return rows, notes
 
-    def peak_run(disc: dict):
-        key = tuple(sorted(disc.items()))
-        if key not in cache:
-            start = time.perf_counter()
-            # scaled masses relax with a damping force sqrt(mass_scaling) times larger: the
-            # 5x5 panel ends 0.19 % out of balance unscaled, 0.74 % at 10, 2.0 % at 100; the
-            # sweep measures what that does, so the relaxation is not refused
-            scaled = RelaxationSettings(unbalanced_tol=math.inf)
-            res, _ = run_panel(n, theta, k_n, disc, stop_below_peak_fraction=0.85,
-                               relaxation=scaled if disc["mass_scaling"] > 1 else None)  # fmt: skip
-            cache[key] = (res, time.perf_counter() - start)
-        return cache[key]
 
+def _sweep_rows(sweeps: dict, base: dict, peak_run: _PeakRuns, store: dict):
+    """One row per run of every sweep; the base discretisation's bar per sweep
+    (:func:`_base_bar`) and the finest node-spacing run."""
+    rows: list[Row] = []
     finest_spacing = None
+    base_bars: dict[str, float] = {}
     for param, values in sweeps.items():
         runs = [(v, *peak_run({**base, param: v})) for v in values]
         # the finest run: smallest spacing / speed / mass scaling / time step
         ref_res = runs[-1][1]
         if param == "node_spacing_mm":
             finest_spacing = ref_res
-        for value, res, wall in runs:
+        peaks = [res.peak_load for _, res, _ in runs]
+        base_bars.update(_base_bar(param, values, peaks, base[param]))
+        for i, (value, res, wall) in enumerate(runs):
             err = abs(res.peak_load - ref_res.peak_load) / ref_res.peak_load
             curve_err = _curve_difference(res, ref_res)
             rows.append(Row(
-                f"peak load, {param}={value:g} [N]", res.peak_load, ref_res.peak_load,
+                f"peak load, {param}={value:g} [N]", _sweep_estimate(param, values, peaks, i),
+                ref_res.peak_load,
                 f"finest run of this sweep ({param}={values[-1]:g})", wall,
                 {**base, param: value},
                 {"curve_rel_diff": curve_err, "n_nodes": res.info["n_nodes"],
@@ -404,13 +465,21 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
             store[f"{param}={value:g}/load"] = res.load
             store[f"{param}={value:g}/wall_s"] = np.array(wall)
             store[f"{param}={value:g}/rel_error"] = np.array(err)
-    # the converged run: the full run (relaxation + indentation until the block is out)
+    return rows, base_bars, finest_spacing
+
+
+def _converged_row(base, k_n, base_bars, finest_spacing, sweeps, quick, store) -> Row:
+    """The full run at the base discretisation (relaxation + indentation until the block is
+    out), with the sweeps' base bars, against the finest node-spacing run."""
     start = time.perf_counter()
-    full, scene = run_panel(n, theta, k_n, base)
+    full, scene = run_panel(5, 2.5, k_n, base)
     wall = time.perf_counter() - start
     info = full.info
-    rows.append(Row(
-        "converged: 5x5 theta=2.5 full run, peak load [N]", full.peak_load,
+    store["converged/delta"] = full.delta
+    store["converged/load"] = full.load
+    converged = Estimate(full.peak_load, base_bars, notes="each sweep: base against the next finer")
+    return Row(
+        "converged: 5x5 theta=2.5 full run, peak load [N]", converged,
         finest_spacing.peak_load,
         f"finest node spacing run ({sweeps['node_spacing_mm'][-1]:g} mm)", wall,
         {**base, "k_n_gpa_mm": k_n / (GPA / MM)},
@@ -419,22 +488,24 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
          "ultimate_deflection_mm": full.ultimate_deflection / MM, **mechanism(full, scene),
          "within_1pct": bool(abs(full.peak_load / finest_spacing.peak_load - 1) <= 0.01),
          "energy_over_work_max": energy_check(full), "quick_not_converged": quick},
-    ))  # fmt: skip
-    store["converged/delta"] = full.delta
-    store["converged/load"] = full.load
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-convergence-curves.npz", **store)
-    notes = (
-        "5x5 panel, theta = 2.5 deg, k_n = 2.25 GPa/mm. Each sweep varies one parameter around "
-        f"the base {base} and runs until the load has dropped to 85 % of the peak; its error is "
-        "against the finest run of the same sweep. curve_rel_diff: largest |P - P_finest| over "
-        "the common deflection range before the peak, relative to the finest peak. Mass scaling "
-        "s and speed v enter the dynamics through v sqrt(s) only (time scaling), so the two "
-        "sweeps test the same inertia effect. The converged row is the full run at the base "
-        "discretisation (relaxation + indentation until the central block is out)."
-        + (" Quick mode: coarse, the base is not converged." if quick else "")
-    )
-    return rows, notes
+    )  # fmt: skip
+
+
+def _sweep_estimate(param: str, values: list, peaks: list, i: int):
+    """Peak ``i`` of a sweep (coarse to fine) with the difference to the next finer run as its
+    bar (the finest: to the next coarser)."""
+    j = i + 1 if i + 1 < len(peaks) else i - 1
+    return two_levels(peaks[i], peaks[j], param, f"{param} {values[i]:g} against {values[j]:g}")
+
+
+def _base_bar(param: str, values: list, peaks: list, base_value: float) -> dict[str, float]:
+    """The error source of the base discretisation in one sweep: the difference between the
+    base run and the next finer one; none where the base is the finest (the unscaled mass is
+    the model itself, not an approximation of it)."""
+    i = values.index(base_value)
+    if i + 1 == len(values):
+        return {}
+    return {f"{param} ({values[i]:g} vs {values[i + 1]:g})": abs(peaks[i] - peaks[i + 1])}
 
 
 def _curve_difference(res: IndentationResult, ref: IndentationResult) -> float:
@@ -491,8 +562,7 @@ def run_friction(quick: bool) -> tuple[list[Row], str]:
         {"std_over_mean": float(np.std(peaks) / np.mean(peaks)),
          "mean_energy_ratio": float(np.mean(energies)) / det[0.23].loading_energy},
     ))  # fmt: skip
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    np.savez(RESULTS_DIR / "tis-friction-curves.npz", **store)
+    np.savez(output_dir() / "tis-friction-curves.npz", **store)
     notes = (
         "Panel of seed 000 Fig. 9 taken as the 5x5, theta = 5 deg calibration panel with "
         "k_imp (k_gaps = 0.65 GPa/mm); per-block mu drawn with numpy default_rng(seed) from "
@@ -500,6 +570,8 @@ def run_friction(quick: bool) -> tuple[list[Row], str]:
         "blocks' values (ExplicitSettings.mu_rule). Discretisation: "
         + ", ".join(f"{k}={v}" for k, v in disc.items())
         + (" (quick: coarse, not converged)." if quick else ".")
+        + " The rows' error bars are not estimated (`± ?`): the explicit DEM gives none of its "
+        "own yet."
     )
     return rows, notes
 

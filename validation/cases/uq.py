@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.explicit import (
     ExplicitSettings,
     IndentationSettings,
@@ -57,14 +58,16 @@ from dem.units import GPA, MM
 from limit.errors import LimitAnalysisError
 from limit.problems import LimitSettings
 from limit.solve import limit_analysis
+from validation.cases.bars import exact, proportion
 from validation.cases.tis import CONVERGED, QUICK, THICKNESS_MM, mechanism
-from validation.report import RESULTS_DIR, Row, output_dir
+from validation.report import Row, input_path, output_dir, results_dir
 from validation.sweep import latest_records, make_tasks, run_sweep
-from validation.sweep.stats import mean_ci
+from validation.sweep.stats import mean_ci, sample_statistics
 
 logger = logging.getLogger(__name__)
 
-SWEEPS_DIR = RESULTS_DIR / ".sweeps"
+SWEEPS = ".sweeps"
+"""The working stores' folder inside the results folder of the run (git-ignored)."""
 ROOT = Path(__file__).resolve().parents[2]
 CURVE_POINTS = 150
 TIS_N, TIS_THETA = 5, 2.5
@@ -83,7 +86,8 @@ def code_fingerprint() -> str:
 
 
 def store_dir(case: str, quick: bool) -> Path:
-    return SWEEPS_DIR / (f"{case}-quick" if quick else case)
+    """The working store of a study, in the sweeps folder of the full or quick results."""
+    return results_dir(quick) / SWEEPS / (f"{case}-quick" if quick else case)
 
 
 def _sweep(case: str, fn, params: list[dict], root_seed: int, quick: bool, prefix: str):
@@ -101,10 +105,13 @@ def _sweep(case: str, fn, params: list[dict], root_seed: int, quick: bool, prefi
 
 
 def _stats_rows(label: str, values, unit: str, settings: dict, reference=None, source="") -> list:
-    """Mean (with its 95 % CI), std and the 5/50/95 % quantiles of a sample."""
+    """Mean (with its 95 % t and bootstrap intervals), std and the 5/50/95 % quantiles of a
+    sample, each statistic with its seeded bootstrap interval (``extra["bootstrap"]``); the
+    row's ``ours`` is the mean with its bootstrap bar (source ``"sampling"``)."""
     v = np.asarray(values, dtype=float)
     mean, half = mean_ci(v) if v.size >= 2 else (float(v.mean()), math.nan)
     q05, q50, q95 = np.quantile(v, [0.05, 0.5, 0.95])
+    boot = sample_statistics(v) if v.size >= 2 else {}
     extra = {
         "n": int(v.size),
         "ci95_half_width": half,
@@ -115,8 +122,10 @@ def _stats_rows(label: str, values, unit: str, settings: dict, reference=None, s
         "q95": q95,
         "min": float(v.min()),
         "max": float(v.max()),
+        "bootstrap": {name: ci.to_dict() for name, ci in boot.items()},
     }
-    return [Row(f"{label}: mean [{unit}]", mean, reference, source, None, settings, extra)]
+    ours = boot["mean"].estimate if boot else mean
+    return [Row(f"{label}: mean [{unit}]", ours, reference, source, None, settings, extra)]
 
 
 def _curve(delta: np.ndarray, load: np.ndarray) -> dict:
@@ -180,7 +189,7 @@ def _tis_params(quick: bool, k_n: float) -> dict:
 
 def _seed_spread() -> tuple[np.ndarray, str]:
     """P_max / P_max(mu = 0.23) of the realisations in tis-friction's results, if present."""
-    path = RESULTS_DIR / "tis-friction.json"
+    path = input_path("tis-friction.json")
     if not path.exists():
         return np.array([]), "tis-friction not run"
     data = json.loads(path.read_text())
@@ -208,74 +217,21 @@ def run_friction_uq(quick: bool):
     det, reals = recs[0], recs[1:]
     ok = [r["result"] for r in reals if r["status"] == "ok"]
     settings = {**base, "mu": f"N({MU_SEED_000}, {MU_STD_SEED_000}) per block", "root_seed": 15000}
-    rows = []
-    if det["status"] == "ok":
-        d = det["result"]
-        rows.append(
-            Row(
-                "deterministic mu = 0.23: peak load [N]",
-                d["peak_load"],
-                None,
-                "",
-                det["wall_s"],
-                settings,
-                {"failure_mode": d["failure_mode"]},
-            )
-        )
+    rows = _deterministic_rows(det, settings)
     peaks = np.array([r["peak_load"] for r in ok])
     seed_ratio, seed_label = _seed_spread()
-    rows += _stats_rows(f"P_max, {len(ok)} realisations", peaks, "N", settings)
-    if det["status"] == "ok" and len(ok) >= 2:
-        ratio = peaks / det["result"]["peak_load"]
-        rows += _stats_rows("P_max / P_max(mu = 0.23)", ratio, "-", settings)
-        if seed_ratio.size >= 2:
-            rows.append(
-                Row(
-                    "cov of P_max over the realisations [-]",
-                    float(ratio.std(ddof=1) / ratio.mean()),
-                    float(seed_ratio.std(ddof=1) / seed_ratio.mean()),
-                    seed_label,
-                    None,
-                    settings,
-                    {"seed_mean_ratio": float(seed_ratio.mean())},
-                )
-            )
+    rows += _peak_rows(peaks, det, seed_ratio, seed_label, settings)
     ult = np.array([r["ultimate_deflection_mm"] for r in ok], dtype=float)
     finite = ult[np.isfinite(ult)]
     if finite.size >= 2:
         rows += _stats_rows("ultimate deflection (blocks out)", finite, "mm", settings)
-    modes = [r["failure_mode"] for r in ok]
-    for mode in ("central out", "several blocks", "not out", "stopped"):
-        rows.append(
-            Row(
-                f"failure mode '{mode}': fraction [-]",
-                modes.count(mode) / max(1, len(ok)),
-                None,
-                "",
-                None,
-                settings,
-                {"count": modes.count(mode)},
-            )
-        )
-    for k in (8, 16, 32, 64):
-        if 2 <= k <= len(peaks):
-            mean, half = mean_ci(peaks[:k])
-            rows.append(
-                Row(
-                    f"running mean of P_max after {k} runs [N]",
-                    mean,
-                    None,
-                    "",
-                    None,
-                    settings,
-                    {"ci95_half_width": half},
-                )
-            )
+    rows += _mode_rows([r["failure_mode"] for r in ok], settings)
+    rows += _running_mean_rows(peaks, settings)
     failed = [r for r in reals if r["status"] != "ok"]
     rows.append(
         Row(
             "failed realisations [-]",
-            len(failed),
+            exact(len(failed)),
             0,
             "every run should finish",
             None,
@@ -295,6 +251,83 @@ def run_friction_uq(quick: bool):
         "unmodelled). " + _discretisation_note(base["disc"], quick)
     )
     return rows, notes
+
+
+def _deterministic_rows(det: dict, settings: dict) -> list[Row]:
+    """The deterministic run's peak load (mu = 0.23 everywhere), if it finished."""
+    if det["status"] != "ok":
+        return []
+    d = det["result"]
+    return [
+        Row(
+            "deterministic mu = 0.23: peak load [N]",
+            d["peak_load"],
+            None,
+            "",
+            det["wall_s"],
+            settings,
+            {"failure_mode": d["failure_mode"]},
+        )
+    ]
+
+
+def _peak_rows(peaks, det: dict, seed_ratio, seed_label: str, settings: dict) -> list[Row]:
+    """Statistics of the realisations' peak loads, also over the deterministic peak, and
+    their coefficient of variation against the seed's spread ``seed_ratio`` (tis-friction)."""
+    rows = _stats_rows(f"P_max, {len(peaks)} realisations", peaks, "N", settings)
+    if det["status"] != "ok" or len(peaks) < 2:
+        return rows
+    ratio = peaks / det["result"]["peak_load"]
+    rows += _stats_rows("P_max / P_max(mu = 0.23)", ratio, "-", settings)
+    if seed_ratio.size >= 2:
+        rows.append(
+            Row(
+                "cov of P_max over the realisations [-]",
+                float(ratio.std(ddof=1) / ratio.mean()),
+                float(seed_ratio.std(ddof=1) / seed_ratio.mean()),
+                seed_label,
+                None,
+                settings,
+                {"seed_mean_ratio": float(seed_ratio.mean())},
+            )
+        )
+    return rows
+
+
+def _mode_rows(modes: list[str], settings: dict) -> list[Row]:
+    """The fraction of each failure mode, with its Wilson interval."""
+    return [
+        Row(
+            f"failure mode '{mode}': fraction [-]",
+            proportion(modes.count(mode), len(modes)) if modes else None,
+            None,
+            "",
+            None,
+            settings,
+            {"count": modes.count(mode)},
+        )
+        for mode in ("central out", "several blocks", "not out", "stopped")
+    ]
+
+
+def _running_mean_rows(peaks: np.ndarray, settings: dict) -> list[Row]:
+    """The mean peak load after 8, 16, 32 and 64 runs, with its t interval."""
+    rows = []
+    for k in (8, 16, 32, 64):
+        if 2 <= k <= len(peaks):
+            mean, half = mean_ci(peaks[:k])
+            rows.append(
+                Row(
+                    f"running mean of P_max after {k} runs [N]",
+                    Estimate(mean, {"sampling": half}, notes="Student t 95 % interval"),
+                    None,
+                    "",
+                    None,
+                    settings,
+                    {"ci95_half_width": half},
+                )
+            )
+    return rows
 
 
 GAPS_RELAX_STEPS = 20000
@@ -530,41 +563,53 @@ def run_masonry_uq(quick: bool):
         "return_blocks": f"uniform integer {RETURN_BLOCKS}",
     }
     nominal, reals = recs[0], recs[1:]
-    exp = spec.reference
-    rows = []
-    if nominal["status"] == "ok":
-        r = nominal["result"]
-        rows.append(
-            Row(
-                "nominal wall (3-block returns, mu = 0.7): DEM lambda [-]",
-                r["lam_dem"],
-                exp,
-                spec.source,
-                nominal["wall_s"],
-                settings,
-                {"termination": r["termination"], "lam_upper": r["lam_upper"]},
-            )
-        )
+    rows = _nominal_rows(nominal, spec, settings)
     ok = [r["result"] for r in reals if r["status"] == "ok"]
+    rows += _realisation_rows(ok, len(reals), spec, settings)
+    return rows, _masonry_uq_notes(spec.reference, static, quick)
+
+
+def _nominal_rows(nominal: dict, spec, settings: dict) -> list[Row]:
+    """The nominal wall's DEM multiplier against the experiment, if its run finished."""
+    if nominal["status"] != "ok":
+        return []
+    r = nominal["result"]
+    return [
+        Row(
+            "nominal wall (3-block returns, mu = 0.7): DEM lambda [-]",
+            r["lam_dem"],
+            spec.reference,
+            spec.source,
+            nominal["wall_s"],
+            settings,
+            {"termination": r["termination"], "lam_upper": r["lam_upper"]},
+        )
+    ]
+
+
+def _realisation_rows(ok: list[dict], n_reals: int, spec, settings: dict) -> list[Row]:
+    """How many realisations collapsed, the statistics of their DEM multipliers and upper
+    bounds against the experiment, and whether each DEM multiplier lies below its bound."""
+    exp = spec.reference
     collapsed = [r for r in ok if r["collapsed"]]
     lam = np.array([r["lam_dem"] for r in collapsed])
     upper = np.array([r["lam_upper"] for r in ok if r["lam_upper"] is not None])
     terms = sorted({r["termination"] for r in ok if not r["collapsed"]})
-    rows.append(
+    rows = [
         Row(
             "realisations that collapsed [-]",
-            len(collapsed),
-            len(reals),
+            exact(len(collapsed)),
+            n_reals,
             "every realisation",
             None,
             settings,
             {
                 "not_collapsed": len(ok) - len(collapsed),
                 "their_terminations": ", ".join(terms),
-                "failed": len(reals) - len(ok),
+                "failed": n_reals - len(ok),
             },
         )
-    )
+    ]
     if lam.size >= 2:
         rows += _stats_rows(
             "static DEM lambda (collapsed runs)", lam, "-", settings, exp, spec.source
@@ -580,7 +625,7 @@ def run_masonry_uq(quick: bool):
         rows.append(
             Row(
                 "collapsed runs with DEM lambda <= own upper bound [-]",
-                float(np.mean(below)),
+                exact(float(np.mean(below)), "a count over these runs"),
                 1.0,
                 "limit analysis: associated bound >= non-associated collapse",
                 None,
@@ -588,7 +633,11 @@ def run_masonry_uq(quick: bool):
                 {"n": len(pairs)},
             )
         )
-    notes = (
+    return rows
+
+
+def _masonry_uq_notes(exp: float, static: dict, quick: bool) -> str:
+    return (
         f"Restrepo-Velez {MASONRY_SPECIMEN} (seed 001 Table 2, experiment lambda = {exp}), return "
         "walls built as blocks in corner bond. Per realisation: return-wall length uniform in "
         f"{RETURN_BLOCKS[0]}..{RETURN_BLOCKS[1]} blocks; every joint position jittered by N(0, "
@@ -605,7 +654,6 @@ def run_masonry_uq(quick: bool):
         + (str(static) if static else "the defaults (5 x 5 fibres, load step 0.01)")
         + (" (quick: coarse)." if quick else ".")
     )
-    return rows, notes
 
 
 CASES = {

@@ -9,13 +9,17 @@ output and warnings go to ``DIR/crosscheck.log``.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TextIO
 
+from dem.units import LENGTH_UNITS
+from validation.crosscheck.pictures import PictureOptions
 from validation.crosscheck.run import METHODS, CrosscheckResult, CrosscheckSettings, crosscheck
 from validation.crosscheck.steps import Step, StepResult
 from validation.quiet import quiet, table
@@ -47,9 +51,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("--fixed", type=block_ids, help="comma-separated ids of fixed blocks")
     parser.add_argument("--fixed-group", help="comma-separated named cell groups to fix")
     parser.add_argument(
-        "--fixed-below", type=float, help="fix every block whose centroid lies below this z [m]"
+        "--fixed-below",
+        type=float,
+        help="fix every block whose centroid lies below this z [--units, default m]",
+    )
+    parser.add_argument(
+        "--units",
+        choices=sorted(LENGTH_UNITS),
+        help="length unit of the mesh or surface file and of the lengths given with it "
+        "(default m; a scene that looks like mm read as m is refused without it)",
     )
     parser.add_argument("--no-pictures", action="store_true", help="write no PNG pictures")
+    parser.add_argument(
+        "--block-numbers", action="store_true", help="write the block numbers in the 3D pictures"
+    )
+    parser.add_argument(
+        "--pushover-tail",
+        action="store_true",
+        help="draw the whole static DEM path (default: up to its collapse region)",
+    )
     return parser
 
 
@@ -87,8 +107,50 @@ def load_scene(args: argparse.Namespace):
         fixed_below=args.fixed_below,
         fixed_groups=tuple(args.fixed_group.split(",")) if args.fixed_group else (),
         live=SceneSpec.direction(args.live) if args.live else None,
+        units=args.units,
     )
     return read_scene(args.scene, spec, args.toml)
+
+
+def check_usable(scene, fixed_below: float | None = None) -> None:
+    """Refuse a scene no method can check: overlapping blocks, no supports, no free block.
+
+    Raises
+    ------
+    ValueError
+        One sentence naming what was found (an :class:`~dem.geometry.interfaces.OverlapError`
+        names the pairs).
+    """
+    scene.assembly.interfaces()  # raises OverlapError (a ValueError) on overlapping blocks
+    fixed = scene.supports.fixed
+    if not fixed.any() and not scene.supports.restrained.any():
+        units = scene.meta.get("units", "m")  # the user's lengths, as --fixed-below takes them
+        z = scene.assembly.centroid[:, 2] / LENGTH_UNITS[units]
+        below = "" if fixed_below is None else f" (--fixed-below {fixed_below:g} fixes none)"
+        raise ValueError(
+            f"no supports: no block is fixed and no dof restrained{below}; block centroids "
+            f"lie at z = {z.min():.4g} .. {z.max():.4g} {units}. Fix blocks with --fixed, "
+            "--fixed-below, --fixed-group or [supports] in the TOML"
+        )
+    if fixed.all():
+        raise ValueError(f"every one of the {scene.n_blocks} blocks is fixed: nothing to check")
+
+
+def read_input(args: argparse.Namespace):
+    """The scene and the warnings raised while reading it (each message once).
+
+    Raises
+    ------
+    ValueError, OSError
+        Input no method can use (see :func:`check_usable`).
+    """
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        scene = load_scene(args)
+        check_usable(scene, args.fixed_below)
+    messages = list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in seen))
+    meta = {**scene.meta, "warnings": messages}
+    return dataclasses.replace(scene, meta=meta), messages
 
 
 class Progress:
@@ -167,7 +229,8 @@ def summary(result: CrosscheckResult) -> str:
 
 def settings_from(args: argparse.Namespace) -> CrosscheckSettings:
     methods = tuple(m.strip() for m in args.methods.split(",") if m.strip())
-    kw = {"methods": methods, "pictures": not args.no_pictures}
+    pictures = PictureOptions(args.block_numbers, args.pushover_tail)
+    kw = {"methods": methods, "pictures": False if args.no_pictures else pictures}
     return CrosscheckSettings.quick(**kw) if args.quick else CrosscheckSettings(**kw)
 
 
@@ -177,10 +240,12 @@ def run(args: argparse.Namespace) -> int:
     out = args.out or Path(f"crosscheck-{args.scene.stem}")
     try:
         settings = settings_from(args)
-        scene = load_scene(args)
+        scene, messages = read_input(args)
     except (ValueError, OSError) as exc:
-        print(f"crosscheck: {exc}", file=sys.stderr)
+        print(f"crosscheck: {_one_line(exc)}", file=sys.stderr)
         return 2
+    for message in messages:
+        print(f"crosscheck: warning: {_one_line(message)}", file=sys.stderr)
     log = out / "crosscheck.log"
     try:
         if out.exists() and not out.is_dir():
@@ -196,6 +261,10 @@ def run(args: argparse.Namespace) -> int:
         result = crosscheck(scene, settings, out, progress)
         console.write("\n" + summary(result) + f"\ntotal {result.wall_s:.1f} s\n")
     return 0 if result.consistent else 1
+
+
+def _one_line(message) -> str:
+    return " ".join(str(message).split())
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -7,10 +7,18 @@ import json
 import math
 from pathlib import Path
 
+from dem.estimate import Estimate, format_estimate
 from dem.geometry.interfaces import pair_list
 from dem.scene import Scene
+from validation.crosscheck.html_report import write_html_report
 from validation.crosscheck.limit_steps import WHY_NONE
-from validation.crosscheck.pictures import draw_pictures, write_vtus
+from validation.crosscheck.pictures import (
+    PictureOptions,
+    draw_pictures,
+    write_mechanism_view,
+    write_vtus,
+)
+from validation.crosscheck.pushover import zero_lower_note
 from validation.crosscheck.steps import Context
 from validation.report import _fmt, _git_commit, _jsonable, _versions
 
@@ -33,14 +41,24 @@ MULTIPLIERS = (
 )
 
 
-def write_report(scene: Scene, ctx: Context, result, out: Path, pictures: bool) -> dict:
-    """Write every file of a cross-check into ``out`` and return their paths by key."""
+def write_report(
+    scene: Scene, ctx: Context, result, out: Path, pictures: bool | PictureOptions
+) -> dict:
+    """Write every file of a cross-check into ``out`` and return their paths by key
+    (``pictures``: False for none, True or a :class:`PictureOptions` to draw them)."""
     out.mkdir(parents=True, exist_ok=True)
     files = write_vtus(scene, ctx, out)
+    view, why_not = None, "no pictures were asked for (--no-pictures)"
     if pictures:
-        files.update({f"{k}_png": v for k, v in draw_pictures(scene, ctx, out, files).items()})
+        options = pictures if isinstance(pictures, PictureOptions) else PictureOptions()
+        drawn = draw_pictures(scene, ctx, out, files, options)
+        files.update({f"{k}_png": v for k, v in drawn.items()})
+        view, why_not = write_mechanism_view(scene, ctx, out / "mechanism_3d.html", options)
+        if view is not None:
+            files["mechanism_3d"] = str(view)
     files["report_json"] = str(out / "report.json")
     files["report_md"] = str(out / "report.md")
+    files["report_html"] = str(out / "report.html")
     payload = {
         "scene": result.scene,
         "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
@@ -52,14 +70,37 @@ def write_report(scene: Scene, ctx: Context, result, out: Path, pictures: bool) 
         "files": {k: Path(v).name for k, v in files.items()},
     }
     Path(files["report_json"]).write_text(json.dumps(_jsonable(payload), indent=1) + "\n")
-    Path(files["report_md"]).write_text(markdown(result, files, payload) + "\n")
+    text = markdown(result, files, payload) + "\n"
+    Path(files["report_md"]).write_text(text)
+    write_html_report(text, Path(files["report_html"]), view, why_not)
     return files
 
 
 def _table(header: list[str], rows: list[list]) -> list[str]:
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(_fmt(c) for c in row) + " |" for row in rows]
+    lines += ["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows]
     return lines
+
+
+def _cell(value) -> str:
+    """A table cell: an estimate as ``value ± error`` rounded to the digits its error
+    supports (:func:`dem.estimate.format_estimate`), a bare float to 4 significant digits
+    (no error known: more would claim digits nobody checked)."""
+    if isinstance(value, Estimate):
+        return value.format()
+    if isinstance(value, dict) and {"value", "error"} <= value.keys():
+        return format_estimate(float(value["value"]), float(value["error"]))
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return _fmt(value)
+
+
+def _with_bar(value, error):
+    """A checked value with its method's error bar where it has one (a dict for
+    :func:`_cell`), else the bare value."""
+    if value is None or error is None:
+        return value
+    return {"value": value, "error": error}
 
 
 def _multipliers(result) -> list[list]:
@@ -72,12 +113,15 @@ def _multipliers(result) -> list[list]:
         note = step.values.get("termination", "")
         if key in WHY_NONE and step.values[key] is None:
             note = step.values.get(WHY_NONE[key], "")
+        if key == "lower" and step.values[key] == 0.0:
+            note = zero_lower_note(result.scene["live_resultant_N"])
         if key == "iterative" and step.values.get("iterative") is not None:
             note = (
                 f"converged {step.values['iterative_converged']}, "
                 f"admissible {step.values['iterative_admissible']}"
             )
-        rows.append([label, step.values[key], note])
+        value = step.values.get("estimates", {}).get(key) or step.values[key]
+        rows.append([label, value, note])
     return rows
 
 
@@ -96,6 +140,7 @@ def markdown(result, files: dict, payload: dict) -> str:
         f"{[round(v / 1e3, 4) for v in s['live_resultant_N']]} kN; extent "
         f"{[round(v, 4) for v in s['extent_m']]} m; friction {s['mu']}.",
         *_edge_contacts(s.get("edge_contacts", [])),
+        *_warnings(s.get("meta", {}).get("warnings", []) + list(result.warnings)),
         "",
         "## In short",
         "",
@@ -105,7 +150,16 @@ def markdown(result, files: dict, payload: dict) -> str:
         "",
         *_table(
             ["check", "result", "value", "bound", "detail"],
-            [[c.name, c.status, c.value, c.bound, c.detail] for c in result.checks],
+            [
+                [
+                    c.name,
+                    c.status,
+                    _with_bar(c.value, c.value_error),
+                    _with_bar(c.bound, c.bound_error),
+                    c.detail,
+                ]
+                for c in result.checks
+            ],  # fmt: skip
         ),
         "",
         "## Load multipliers",
@@ -119,7 +173,7 @@ def markdown(result, files: dict, payload: dict) -> str:
             "## Block stresses at the DEM collapse state (FEM)",
             "",
             f"No block was solved at the state {fem.settings['state']} (lambda = "
-            f"{fem.settings['lambda']:.6g}): {_none_solved(fem)}.",
+            f"{fem.settings['lambda']:.4g}): {_none_solved(fem)}.",
             "",
         ]
     elif fem is not None:
@@ -128,11 +182,12 @@ def markdown(result, files: dict, payload: dict) -> str:
         lines += [
             "## Block stresses at the DEM collapse state (FEM)",
             "",
-            f"State {fem.settings['state']} at lambda = {fem.settings['lambda']:.6g}; largest "
-            f"tension {_mpa(v['max_tension_Pa'])} MPa (block {v['max_tension_block']}), largest "
-            f"compression {_mpa(v['max_compression_Pa'])} MPa (block "
-            f"{v['max_compression_block']}); largest equilibrium residual {_fmt(v['max_residual'])}"
-            f" (tolerance {v['residual_tolerance']:g}). E = {fem.settings['young'] / 1e9:g} GPa is "
+            f"State {fem.settings['state']} at lambda = {fem.settings['lambda']:.4g}; largest "
+            f"tension {_stress(v, 'max_tension_Pa')} MPa (block {v['max_tension_block']}), largest "
+            f"compression {_stress(v, 'max_compression_Pa')} MPa (block "
+            f"{v['max_compression_block']}); largest equilibrium residual "
+            f"{_cell(v['max_residual'])} (tolerance {v['residual_tolerance']:g}). "
+            f"E = {fem.settings['young'] / 1e9:g} GPa is "
             "a placeholder: the stresses of a statically determinate block do not depend on it.",
             "",
             *_table(
@@ -196,7 +251,10 @@ def in_short(result) -> list[str]:
             "carried for every multiplier (limit analysis, unbounded)."
         )
     elif upper is not None:
-        if lower is not None:
+        if lower == 0.0:
+            why = zero_lower_note(result.scene["live_resultant_N"])
+            span = f"at most {upper:.4g} (proven upper bound; the lower bound {why})"
+        elif lower is not None:
             span = f"between {lower:.4g} and {upper:.4g} (proven bounds)"
         else:
             note = _value(result, "limit-vertex", "lower_note")
@@ -268,6 +326,14 @@ def _most_stressed(blocks: list[dict], tol: float) -> list[dict]:
     return sorted(ranked, key=lambda b: b["block"])
 
 
+def _stress(values: dict, key: str) -> str:
+    """A stress of a step's values in MPa, with its error bar where the step has one."""
+    found = values.get("estimates", {}).get(key)
+    if isinstance(found, dict) and {"value", "error"} <= found.keys():
+        return format_estimate(float(found["value"]) / 1e6, float(found["error"]) / 1e6)
+    return _cell(_mpa(values[key]))
+
+
 def _mpa(value) -> float | None:
     return None if value is None else value / 1e6
 
@@ -283,3 +349,10 @@ def _edge_contacts(pairs: list) -> list[str]:
         f"({pair_list(pairs, 10)}): the static DEM and the limit analysis carry no force there "
         "(face interfaces only); the explicit DEM's nodes do.",
     ]
+
+
+def _warnings(messages: list[str]) -> list[str]:
+    """The warnings of reading the scene and of the run, which did not stop it."""
+    if not messages:
+        return []
+    return ["", "## Warnings", "", *[f"- {m}" for m in messages]]

@@ -9,7 +9,13 @@ import numpy as np
 
 from dem.scene import Scene
 from limit import LimitSettings, NoMechanismError, bounds_and_estimates, stands
-from validation.crosscheck.steps import Context, StepResult, finite_or_none, skip_without_collapse
+from validation.crosscheck.steps import (
+    Context,
+    StepResult,
+    finite_or_none,
+    put_estimates,
+    skip_without_collapse,
+)
 
 WHY_NONE = {"lower": "lower_note", "reduced_mu": "reduced_note", "iterative": "iterative_note"}
 """The value of a bounds step that says why a bound or an estimate is missing."""
@@ -109,4 +115,10 @@ class LimitBounds:
                 > 1e-6 * np.abs(b.associated.velocities).max()
             ).tolist(),
         }
+        values = put_estimates(
+            values,
+            upper=b.upper_estimate,
+            reduced_mu=b.reduced_mu_estimate,
+            iterative=None if it is None else it.estimate,
+        )
         return StepResult(self.name, self.method, "ok", "", 0.0, settings, values, b)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -16,6 +17,7 @@ from limit import LimitSettings
 from validation.crosscheck.dem_steps import ExplicitLateral, StaticCollapse
 from validation.crosscheck.fem_step import FemCheck
 from validation.crosscheck.limit_steps import DeadLoadCheck, LimitBounds
+from validation.crosscheck.pictures import PictureOptions
 from validation.crosscheck.steps import Context, Step, StepResult, run_step
 from validation.crosscheck.verdict import FAIL, Check, verdict
 
@@ -45,11 +47,11 @@ class CrosscheckSettings:
     max_updates : int or None
         Capacity updates of the fixed-capacity estimate (b); None: the library's default.
     rtol : float
-        Relative slack of the verdict's inequalities [-].
-    agree_rtol : float
-        Largest relative difference between the two DEM laws called agreement [-].
-    pictures : bool
-        Draw the PNG pictures (the VTU files are always written).
+        Relative slack of the verdict's inequalities where an error bar is not estimated
+        [-]; agreement is decided by the methods' error bars (:mod:`.verdict`).
+    pictures : bool or PictureOptions
+        Draw the PNG pictures (the VTU files are always written); a
+        :class:`~validation.crosscheck.pictures.PictureOptions` says what they show.
     """
 
     methods: tuple[str, ...] = METHODS
@@ -59,8 +61,7 @@ class CrosscheckSettings:
     fem: FemCheck = field(default_factory=FemCheck)
     max_updates: int | None = None
     rtol: float = 1e-3
-    agree_rtol: float = 0.05
-    pictures: bool = True
+    pictures: bool | PictureOptions = True
 
     def __post_init__(self):
         unknown = set(self.methods) - set(METHODS)
@@ -69,18 +70,18 @@ class CrosscheckSettings:
         m = self.max_updates
         if m is not None and (isinstance(m, bool) or int(m) != m or m < 1):
             raise ValueError(f"max_updates must be None or an integer >= 1, got {m!r}")
-        for name in ("rtol", "agree_rtol"):
-            if not 0 <= getattr(self, name) < 1:
-                raise ValueError(f"{name} must lie in [0, 1), got {getattr(self, name)!r}")
+        if not 0 <= self.rtol < 1:
+            raise ValueError(f"rtol must lie in [0, 1), got {self.rtol!r}")
 
     @classmethod
     def quick(cls, **kw) -> CrosscheckSettings:
         """Smaller settings for a first look: 10 updates of estimate (b), coarse FEM mesh, a
-        wider explicit bracket (3 halvings of the step)."""
+        wider explicit bracket (3 halvings of the step) without its error estimate or rigid
+        limit."""
         return cls(
             max_updates=10,
             fem=FemCheck(mesh_fraction=0.4),
-            explicit=ExplicitLateral(refinements=3),
+            explicit=ExplicitLateral(refinements=3, error="none", continuation=None),
             **kw,
         )
 
@@ -116,6 +117,8 @@ class CrosscheckResult:
         Written files by key (``report_md``, ``scene``, ``mechanism``, ...).
     wall_s : float
         [s].
+    warnings : list of str
+        Warnings the steps raised (each message once), repeated in the report.
     """
 
     scene: dict
@@ -123,6 +126,7 @@ class CrosscheckResult:
     checks: list[Check]
     files: dict = field(default_factory=dict)
     wall_s: float = 0.0
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def consistent(self) -> bool:
@@ -207,15 +211,19 @@ def crosscheck(
     settings = settings or CrosscheckSettings()
     start = time.perf_counter()
     ctx = Context(settings)
-    for step in settings.steps():
-        if progress:
-            progress("start", step, None)
-        res = run_step(step, scene, ctx)
-        logger.info("%s: %s %s (%.1f s)", step.name, res.status, res.reason, res.wall_s)
-        if progress:
-            progress("end", step, res)
-    checks = verdict(ctx, settings.rtol, settings.agree_rtol)
+    with warnings.catch_warnings(record=True) as seen:
+        for step in settings.steps():
+            if progress:
+                progress("start", step, None)
+            res = run_step(step, scene, ctx)
+            logger.info("%s: %s %s (%.1f s)", step.name, res.status, res.reason, res.wall_s)
+            if progress:
+                progress("end", step, res)
+    for w in seen:  # shown or logged as they would have been, and kept for the report
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    checks = verdict(ctx, settings.rtol)
     result = CrosscheckResult(scene_summary(scene), list(ctx.results.values()), checks)
+    result.warnings = list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in seen))
     if out_dir is not None:
         result.files = write_report(scene, ctx, result, Path(out_dir), settings.pictures)
     result.wall_s = time.perf_counter() - start

@@ -16,6 +16,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.scene import Scene
 
 logger = logging.getLogger(__name__)
@@ -41,7 +42,9 @@ class StepResult:
     settings : dict
         Everything needed to reproduce the step.
     values : dict
-        JSON-able results (multipliers, terminations, stresses).
+        JSON-able results (multipliers, terminations, stresses). ``values["estimates"]``
+        maps a headline value's key to its :class:`~dem.estimate.Estimate` as a dict (value,
+        error, sources), where the method estimated its error (:func:`estimate_of`).
     payload : object
         The method's own result object (not written to JSON).
     """
@@ -134,3 +137,25 @@ def finite_or_none(value) -> float | None:
         return None
     value = float(value)
     return None if math.isnan(value) else value
+
+
+def put_estimates(values: dict, **estimates: Estimate | None) -> dict:
+    """``values`` with ``values["estimates"][key]`` set for every estimate given (None skipped)."""
+    out = dict(values.get("estimates", {}))
+    out.update({k: e.to_dict() for k, e in estimates.items() if e is not None})
+    return {**values, "estimates": out}
+
+
+def estimate_of(res: StepResult | None, key: str) -> Estimate | None:
+    """Value ``key`` of a step with its error bar: the method's estimate when it gave one,
+    else the bare value with an unknown bar (``inf``); None when the step or value is missing
+    or not finite."""
+    if res is None:
+        return None
+    given = res.values.get("estimates", {}).get(key)
+    if given is not None:
+        return Estimate.from_dict(given)
+    value = res.values.get(key)
+    if value is None or not math.isfinite(float(value)):
+        return None
+    return Estimate.unknown(float(value), f"{res.name} gives no error bar for {key}")

@@ -1,6 +1,6 @@
 """Validation cases as dask tasks (``python -m validation all --workers N | --scheduler ADDR``).
 
-Each case runs on a worker through the same ``validation.__main__.run_case`` as a serial run
+Each case runs on a worker through the same :func:`validation.catalogue.run_case` as a serial run
 (staged writes of ``CASE.{json,md}`` and side products), so its files are those of a serial
 run. A case that runs a sweep itself (the uncertainty studies) fans its realisations out over
 the same cluster (:func:`validation.sweep.executors.open_executor` finds the worker it runs
@@ -10,12 +10,12 @@ workers share.
 
 from __future__ import annotations
 
-import importlib
 import time
 import uuid
 from collections.abc import Iterator
 from pathlib import Path
 
+from validation.catalogue import run_case as run_catalogued_case
 from validation.sweep.execute import one_numba_thread
 from validation.sweep.executors import DaskExecutor, open_executor
 
@@ -23,8 +23,7 @@ from validation.sweep.executors import DaskExecutor, open_executor
 def run_case(name: str, quick: bool, out_dir: str | Path | None = None) -> float:
     """Run one case as ``python -m validation run`` does; return its wall time [s]."""
     start = time.perf_counter()
-    cli = importlib.import_module("validation.__main__")
-    cli.run_case(name, quick, None if out_dir is None else Path(out_dir))
+    run_catalogued_case(name, quick, None if out_dir is None else Path(out_dir))
     return time.perf_counter() - start
 
 
@@ -52,7 +51,7 @@ def run_cases_on_cluster(
     workers, scheduler :
         See :func:`validation.sweep.executors.open_executor`; ``workers=0`` runs serially here.
     out_dir : path, optional
-        Results directory (default ``validation/results``).
+        Results directory (default: :func:`validation.report.results_dir` of ``quick``).
     """
     with open_executor(workers, scheduler) as ex:
         if not isinstance(ex, DaskExecutor):

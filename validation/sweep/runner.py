@@ -1,4 +1,9 @@
-"""Run a sweep: tasks in, records streamed to an append-only store, finished tasks skipped."""
+"""Run a sweep: tasks in, records streamed to an append-only store, finished tasks skipped.
+
+Each record is stamped as it is stored with the commit and clean flag of the run
+(:func:`validation.provenance.stamp`) and the date it finished; the task's own wall time is
+``wall_s``. A resumed study may hold records of several commits: the results manifest says so.
+"""
 
 from __future__ import annotations
 
@@ -9,6 +14,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from validation import provenance
 from validation.sweep.execute import TaskFunction
 from validation.sweep.executors import Executor, open_executor
 from validation.sweep.progress import ConsoleProgress, NoProgress
@@ -106,10 +112,12 @@ def run_sweep(
         bar = ConsoleProgress(total, label=store.directory.name) if progress else NoProgress()
         start = time.perf_counter()
         n_run = n_failed = 0
+        origin = provenance.stamp()
+        origin = {k: origin[k] for k in ("git_commit", "git_clean")}
         with _maybe_open(executor, workers, scheduler) as ex:
             bar.skipped = len(done)
             for record in ex.run(fn, todo):
-                store.append(record)
+                store.append({**record, **origin, "date": provenance.now()})
                 n_run += 1
                 n_failed += record["status"] != "ok"
                 if record["status"] != "ok":

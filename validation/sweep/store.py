@@ -23,6 +23,7 @@ logger = logging.getLogger(__name__)
 
 MANIFEST = "manifest.json"
 RESULTS = "results.jsonl"
+LOCK = ".lock"
 
 
 class SweepStoreError(RuntimeError):
@@ -32,6 +33,10 @@ class SweepStoreError(RuntimeError):
 @dataclass
 class ResultStore:
     """Records of one sweep in a directory.
+
+    :meth:`open` takes the store's lock (``flock`` on ``.lock``, a file that is never moved)
+    before it reads or replaces the manifest or moves records, so a second sweep started on
+    the same directory fails at once and cannot set aside the records of a running one.
 
     Parameters
     ----------
@@ -53,7 +58,22 @@ class ResultStore:
     def __post_init__(self):
         self.directory = Path(self.directory)
         self.directory.mkdir(parents=True, exist_ok=True)
+        self._lock: int | None = None
         self._fd: int | None = None
+
+    def _take_lock(self) -> None:
+        fd = os.open(self.directory / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError as exc:
+            os.close(fd)
+            raise SweepStoreError(
+                f"{self.directory} is being written by another process (a running sweep)"
+            ) from exc
+        self._lock = fd
+
+    def _claim(self) -> None:
+        """Write this sweep's manifest, after checking (or setting aside) the one there."""
         manifest = jsonable(self.manifest)
         path = self.directory / MANIFEST
         if path.exists():
@@ -90,22 +110,30 @@ class ResultStore:
         return self.directory / RESULTS
 
     def open(self) -> None:
-        """Lock the store for this process and cut a torn last line."""
-        fd = os.open(self.results_path, os.O_RDWR | os.O_CREAT | os.O_APPEND, 0o644)
+        """Lock the store for this process, then check the manifest and cut a torn last line.
+
+        Raises
+        ------
+        SweepStoreError
+            Another process holds the lock, or the manifest differs (without ``overwrite``).
+        """
+        self._take_lock()
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError as exc:
-            os.close(fd)
-            raise SweepStoreError(
-                f"{self.results_path} is being written by another process (a running sweep)"
-            ) from exc
-        _cut_torn_line(fd, self.results_path)
+            self._claim()
+            fd = os.open(self.results_path, os.O_RDWR | os.O_CREAT | os.O_APPEND, 0o644)
+            _cut_torn_line(fd, self.results_path)
+        except BaseException:
+            self.close()
+            raise
         self._fd = fd
 
     def close(self) -> None:
-        if self._fd is not None:
-            os.close(self._fd)  # also releases the lock
-            self._fd = None
+        """Close the records and release the lock."""
+        for name in ("_fd", "_lock"):
+            fd = getattr(self, name)
+            if fd is not None:
+                os.close(fd)  # closing the lock's descriptor releases it
+                setattr(self, name, None)
 
     def append(self, record: dict) -> None:
         """Write one record durably (one line, one write, fsync)."""
