@@ -12,6 +12,7 @@ from dem.kernels.interface_law import (
     STATE_FLEXURE,
     STATE_SHEAR,
 )
+from dem.static.adaptive_grid import GridRefinement
 
 COLLAPSE_TERMINATIONS = ("plateau", "softening", "snap_back")
 """Terminations that are a collapse; the others (``"max_steps"``, ``"stalled"``,
@@ -102,6 +103,10 @@ class StaticResult:
     wall_s : float
         Wall time [s].
     settings : dict
+    fibre_grid : GridRefinement or None
+        The fibre grids the analysis ran on, coarse to fine (this result is the finest), and
+        the last change of lambda, the bound on the grid's error
+        (:mod:`dem.static.adaptive_grid`); None for one run on a fixed grid.
     """
 
     lambda_max: float
@@ -129,6 +134,7 @@ class StaticResult:
     termination: str
     wall_s: float
     settings: dict = field(default_factory=dict)
+    fibre_grid: GridRefinement | None = None
 
     @property
     def pushover(self) -> tuple[np.ndarray, np.ndarray]:

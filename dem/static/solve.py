@@ -5,10 +5,12 @@ from __future__ import annotations
 import logging
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from dem.scene import Scene
+from dem.static.adaptive_grid import refine_fibre_grid
 from dem.static.dead_load import solve_dead_load
 from dem.static.mechanism import no_mechanism_reason
 from dem.static.model import Model
@@ -66,6 +68,9 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         raise TypeError(
             f"settings must be a dem.static.StaticSettings, got {type(settings).__name__}"
         )
+    law = settings.law_settings
+    if getattr(law, "grid_tolerance", None) is not None:
+        return _solve_on_refined_grids(scene, settings)
     model = Model(scene, settings)
     corrector = Corrector(model, settings)
     dead, n_iter = solve_dead_load(corrector)
@@ -76,6 +81,23 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     path = PathFollower(model, corrector, dead, n_iter)
     termination, reason = path.run()
     return _finish(model, path, termination, reason, start)
+
+
+def _solve_on_refined_grids(scene: Scene, settings: StaticSettings) -> StaticResult:
+    """The fibre law on grids refined until lambda settles (:mod:`dem.static.adaptive_grid`);
+    the result of the finest grid, with the grids and the last change of lambda."""
+    start = time.perf_counter()
+    once = replace(settings, on_failure="return")
+    result, refinement = refine_fibre_grid(once, lambda s: solve_collapse(scene, s))
+    result = replace(
+        result,
+        fibre_grid=refinement,
+        wall_s=time.perf_counter() - start,
+        settings=settings.to_dict(),
+    )
+    if not result.collapsed and settings.on_failure == "raise":
+        raise NoCollapseError(result.failure, result)
+    return result
 
 
 class _Unloaded:
