@@ -55,8 +55,10 @@ class ExplicitSettings:
     contact_plane : {"nearest", "compatible"}
         With face planes: penetration and normal from the nearest plane of the neighbour (the
         exact convex signed distance; default), or from the nearest plane among the
-        neighbour's faces that face the node's own face (keeps a conforming interface
-        conforming next to the neighbour's edges). With ``node_layout="vertex"`` and
+        neighbour's faces that face the node's own face, counting only the part of the
+        node's patch of face that lies over the neighbour (keeps a conforming interface
+        conforming next to the neighbour's edges; a node beside the neighbour carries
+        nothing). With ``node_layout="vertex"`` and
         neighbours sharing edges (masonry), use "compatible": the nearest plane gives the
         nodes on a shared edge about zero depth, so a hinge there carries nothing.
     signed_distance : {"planes", "level_set"}
