@@ -19,7 +19,13 @@ Prints
    load step halved and doubled (1 %), and a scaling table from 100 to 10,000 blocks
    (free-standing running-bond walls): set-up, one evaluation of the interface law plus the
    stiffness assembly, one sparse factorisation, and a full collapse run up to
-   ``--collapse-max`` blocks; times per block in microseconds.
+   ``--collapse-max`` blocks; times per block in microseconds;
+4. ``--in-plane [SIZES]``: in-plane running-bond walls of about 1,000, 3,000 and 10,000
+   blocks (Restrepo-Velez blocks on a fixed foundation, mu 0.7, live load = each block's
+   weight along +x), each run to collapse with the static DEM and solved by the limit
+   analysis (resultant model) in a fresh subprocess: wall time, lambda, steps, iterations and
+   the subprocess's peak resident memory; the growth exponent of the static time between
+   consecutive sizes.
 
 Times are wall-clock on a shared machine: compare ratios within one run.
 """
@@ -27,14 +33,27 @@ Times are wall-clock on a shared machine: compare ratios within one run.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import logging
 import math
+import os
+import resource
+import subprocess
+import sys
 import time
 from pathlib import Path
 
+from dem.scene import Scene, proportional_to_weight
 from dem.scenes.running_bond_wall import running_bond_wall
-from dem.scenes.seed001_walls import RESTREPO_NAMES, SPECIMENS, restrepo_specimen
+from dem.scenes.seed001_walls import (
+    RESTREPO_BLOCK_MM,
+    RESTREPO_MU,
+    RESTREPO_NAMES,
+    RESTREPO_UNIT_WEIGHT,
+    SPECIMENS,
+    restrepo_specimen,
+)
 from dem.static import StaticSettings, StaticSolverError, solve_collapse
 from dem.static.dead_load import solve_dead_load
 from dem.static.model import Model
@@ -43,6 +62,10 @@ from dem.static.newton import Corrector, factor
 TARGET_S = 10.0
 LAWS = ("resultant", "fibre")
 VARIANTS = ("fixed_column", "blocks")
+IN_PLANE_SIZES = {1000: (24, 40), 3000: (50, 60), 10000: (70, 140)}
+"""Blocks (about) -> (blocks per even course, courses) of the in-plane walls: 981, 3,031 and
+9,871 blocks with the foundation."""
+IN_PLANE_TARGET_S = {1000: None, 3000: 15.0, 10000: 60.0}
 
 
 def run_wall(name: str, model: str, variant: str) -> dict:
@@ -229,6 +252,82 @@ def scaling(sizes, collapse_max: int) -> None:
             )
 
 
+def in_plane_wall(n_per_course: int, n_courses: int) -> Scene:
+    """A running-bond wall of Restrepo-Velez blocks on a fixed foundation, mu 0.7, with the
+    live load = each free block's weight along +x (in its plane)."""
+    scene = running_bond_wall(
+        n_per_course, n_courses, *RESTREPO_BLOCK_MM, RESTREPO_UNIT_WEIGHT, mu=RESTREPO_MU,
+        live="none",
+    )  # fmt: skip
+    live = proportional_to_weight(scene.assembly, (1.0, 0.0, 0.0))
+    live[scene.supports.fixed] = 0.0
+    loads = dataclasses.replace(scene.loads, live_wrench=live)
+    return dataclasses.replace(scene, loads=loads, name=f"in_plane_{n_per_course}x{n_courses}")
+
+
+def run_in_plane(size: int, method: str) -> dict:
+    """One in-plane wall by ``method`` ("static": the resultant law to collapse; "limit": the
+    static limit analysis, resultant model), timed from the built scene; with this process's
+    peak resident memory [MiB]."""
+    scene = in_plane_wall(*IN_PLANE_SIZES[size])
+    scene.assembly.interfaces()
+    row = {"size": size, "blocks": scene.n_blocks, "method": method}
+    start = time.perf_counter()
+    if method == "static":
+        settings = StaticSettings(interface_model="resultant", on_failure="return")
+        res = solve_collapse(scene, settings)
+        row |= {
+            "lam": res.lambda_max,
+            "termination": res.termination,
+            "steps": res.n_steps,
+            "iterations": res.n_iterations,
+            "failed_iterations": res.n_failed_iterations,
+        }
+    else:
+        from limit.problems import LimitSettings, build_static_problem
+        from limit.solve import solve_static
+
+        res = solve_static(build_static_problem(scene, LimitSettings(interface_model="resultant")))
+        row |= {"lam": res.lam, "termination": res.status}
+    row["wall_s"] = time.perf_counter() - start
+    row["peak_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return row
+
+
+def in_plane(sizes) -> None:
+    """Every in-plane wall of ``sizes`` with both methods, each in a fresh subprocess (so its
+    peak memory is its own)."""
+    print("== in-plane running-bond walls, live load = weight along +x ==")
+    print(f"load average at start: {' '.join(f'{x:.1f}' for x in _load())}")
+    last = None
+    for size in sizes:
+        rows = {}
+        for method in ("static", "limit"):
+            cmd = [sys.executable, __file__, "--in-plane-one", f"{size}:{method}"]
+            out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
+            rows[method] = json.loads(out.strip().splitlines()[-1])
+        st, li = rows["static"], rows["limit"]
+        growth = ""
+        if last is not None:
+            k = math.log(st["wall_s"] / last["wall_s"]) / math.log(st["blocks"] / last["blocks"])
+            growth = f"  static time ~ n^{k:.2f} since {last['blocks']}"
+        target = IN_PLANE_TARGET_S[size]
+        verdict = "" if target is None else ("  OK" if st["wall_s"] <= target else "  over target")
+        print(
+            f"{st['blocks']:6d} blocks  static {st['wall_s']:7.1f} s lambda {st['lam']:.4f} "
+            f"{st['termination']} steps {st['steps']} iterations {st['iterations']} (failed "
+            f"{st['failed_iterations']}) peak {st['peak_mib']:.0f} MiB | limit "
+            f"{li['wall_s']:6.1f} s lambda {li['lam']:.4f} peak {li['peak_mib']:.0f} MiB"
+            f"{verdict}{growth}  (load {_load()[0]:.1f})",
+            flush=True,
+        )
+        last = st
+
+
+def _load() -> tuple[float, float, float]:
+    return os.getloadavg()
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer variants and sizes")
@@ -243,7 +342,21 @@ def main(argv=None) -> None:
         help="--table2: JSON of an earlier run (--save); print time, iterations and lambda "
         "against it per wall",
     )
+    parser.add_argument(
+        "--in-plane",
+        nargs="?",
+        const="1000,3000,10000",
+        help="in-plane walls of about these many blocks (1000, 3000, 10000)",
+    )
+    parser.add_argument("--in-plane-one", help=argparse.SUPPRESS)  # SIZE:METHOD, subprocess
     args = parser.parse_args(argv)
+    if args.in_plane_one:
+        size, method = args.in_plane_one.split(":")
+        print(json.dumps(run_in_plane(int(size), method)))
+        return
+    if args.in_plane:
+        in_plane([int(x) for x in args.in_plane.split(",")])
+        return
     names = args.walls.split(",")
     if args.table2:
         table2(names, args.save, args.baseline)

@@ -13,6 +13,7 @@ from dem.kernels.interface_law import (
     STATE_FLEXURE,
     STATE_SHEAR,
 )
+from dem.static.adaptive_grid import GridRefinement
 
 COLLAPSE_TERMINATIONS = ("plateau", "softening", "snap_back")
 """Terminations that are a collapse; the others (``"max_steps"``, ``"stalled"``,
@@ -109,6 +110,10 @@ class StaticResult:
         does not approach a limit yet), ``"load step"``, ``"residual"``; a half-width
         ``inf`` under ``"not estimated"`` with ``error="none"``.
     settings : dict
+    fibre_grid : GridRefinement or None
+        The fibre grids the analysis ran on, coarse to fine (this result is the finest), and
+        the last change of lambda, the bound on the grid's error
+        (:mod:`dem.static.adaptive_grid`); None for one run on a fixed grid.
     """
 
     lambda_max: float
@@ -137,6 +142,7 @@ class StaticResult:
     wall_s: float
     lambda_estimate: Estimate
     settings: dict = field(default_factory=dict)
+    fibre_grid: GridRefinement | None = None
 
     @property
     def pushover(self) -> tuple[np.ndarray, np.ndarray]:

@@ -90,18 +90,13 @@ class FibreLawSettings:
     Attributes
     ----------
     points : int
-        Gauss-Lobatto points per side of a rectangular interface: the outer springs lie on
-        the edges, so rocking about an edge is exact. Twisting and partly open joints are
-        only as exact as the grid: rerun a result with more points to see how far it moves
-        (``masonry-restrepo`` records that check for every fibre-law row). So is a crushed
-        zone (``compressive_strength``): its springs act at their points, the outer ones on
-        the edge, so the crushed part's lever is too long by up to half an edge cell. On a
-        0.4 x 1 m block tipping, 3 points exceeded the exact (and limit-analysis) multiplier
-        by 10.9 % (the edge row alone carried the weight uncrushed), 5 points by 1.9 % or
-        fell 8 % short, 10 points came within 1.2 %; the resultant law integrates the capped
-        stress exactly. Other convex polygons get springs at the centres of a finer square
-        grid (none on the edges): rocking comes out low by about half a cell (5 %, 2.5 %,
-        1.2 % on a hexagon at 5, 10, 20 points).
+        Gauss-Lobatto points per side of a rectangular interface (the first grid when
+        ``grid_tolerance`` is set): the outer springs lie on the edges, so rocking about an
+        edge is exact. Twisting, partly open and crushed joints (``compressive_strength``:
+        the crushed part's lever is too long by up to half an edge cell) are only as exact as
+        the grid. Other convex polygons get springs at the centres of a square grid of
+        ``4 points`` cells per side (none on the edges): rocking comes out low by about half
+        a cell.
     tangent_floor : float
         As for the resultant law. The fibre law, whose yielded springs are only a part of each
         joint, converges best near the consistent tangent (1e-9).
@@ -112,6 +107,16 @@ class FibreLawSettings:
     accept_tolerance : float or None
         Looser residual at which a step stalled at a kink (a joint at ``N -> 0``) is accepted;
         the residual is of the total equilibrium, so the error does not accumulate.
+    grid_tolerance : float or None
+        The analysis is repeated on grids of half the cell (``points -> 2 points - 1``) until
+        ``lambda_max`` moves by less than this fraction of itself
+        (:mod:`dem.static.adaptive_grid`); twice the last change bounds the ``"fibre grid"``
+        error of the result; 0.005 asks for lambda to 0.5 %. None (default): one run on
+        ``points``, its grid error not estimated. Each refinement quadruples the springs, so
+        a refinement to 17 points costs about ten times one run on 5.
+    max_points : int
+        Finest grid the refinement may reach; a refinement stopped by it is flagged
+        (``StaticResult.fibre_grid.converged`` False) and keeps its bound from the last change.
     """
 
     name: ClassVar[str] = "fibre"
@@ -119,9 +124,15 @@ class FibreLawSettings:
     tangent_floor: float = 1e-9
     predictor: bool = False
     accept_tolerance: float | None = 1e-4
+    grid_tolerance: float | None = None
+    max_points: int = 17
 
     def __post_init__(self):
         _integer("fibre points", self.points, 2)
+        _integer("max_points", self.max_points, 2)
+        if self.grid_tolerance is not None:
+            _fraction("grid_tolerance", self.grid_tolerance)
+            _positive("grid_tolerance", self.grid_tolerance)
         _fraction("tangent_floor", self.tangent_floor)
         _positive("accept_tolerance", self.accept_tolerance, allow_none=True)
         if not isinstance(self.predictor, bool):
