@@ -13,12 +13,17 @@ Each live step prescribes the increment of a control ``w . u`` and solves for ``
   ``min_step_ratio`` first cost up to 40 Newton iterations per halving and left the path
   creeping in steps of 1e-3 first increments at a constant lambda (S6: stalled after 715 s);
 - **step size**: the increment adapts to the Newton iteration count (``target_iterations``),
-  halves on a failed step, and stays within ``max_step_factor`` first increments;
+  halves on a failed step, and stays within ``max_step_factor`` first increments unless the
+  path is flat and approaches a limit
+  (:meth:`dem.collapse_criteria.CollapseCriteria.approaching`): then
+  it may keep doubling, so that the path samples its approach in a geometric progression
+  and reaches a slow limit (``s^{-1/2}``) in a few dozen steps;
 - **cracking cascade**: when no step converges and the failed trial broke mortar joints, the
   cracks are kept and the path restarts from the last equilibrium (brittle snap-back);
-- **end**: the collapse criteria of :mod:`dem.collapse_criteria` (plateau relative to the
-  initial slope *and* to the recent path, softening, snap-back); otherwise ``max_steps``
-  (lambda still rising) or ``stalled``.
+- **end**: the collapse criteria of :mod:`dem.collapse_criteria` (lambda converged to the
+  stated ``plateau_rise``, softening, snap-back); otherwise ``max_steps`` (lambda still
+  rising: no collapse, with how much it may still rise) or ``stalled`` (no step converges
+  even at ``min_step_ratio``: no collapse either, wherever the path was).
 """
 
 from __future__ import annotations
@@ -37,9 +42,8 @@ from dem.static.settings import StaticSettings
 
 logger = logging.getLogger(__name__)
 
-SLOW_RISE = 0.01
-"""A plateau whose peak rose by more than this fraction over the last ``plateau_window`` of
-the path is reported with a warning (:meth:`PathFollower._warn_still_rising`)."""
+ROUND_OFF = 1e-12
+"""Relative round-off of a residual: below it, a residual bounds lambda no better."""
 
 
 @dataclass(eq=False)
@@ -132,6 +136,24 @@ class PathFollower:
         """``(lambda, c)`` along the path so far."""
         return np.array(self.criteria.lams), np.array(self.criteria.ctrl)
 
+    def error_sources(self, termination: str) -> dict[str, float]:
+        """Half-widths of the peak of lambda [same unit] that this path gives for free.
+
+        ``"end of path"``: how much lambda may still rise
+        (:meth:`dem.collapse_criteria.CollapseCriteria.remaining_rise`; 0 past a peak, after
+        softening or a snap-back); ``"load step"``: the change of lambda over the steps next
+        to the peak (the path's peak lies between its neighbours' samples; the path
+        dependence of friction is measured only by a second run, ``error="full"``);
+        ``"residual"``: the error of lambda that the residual tolerance allows at the peak.
+        """
+        criteria = self.criteria
+        lams = np.asarray(criteria.lams)
+        k = int(np.argmax(lams))
+        step = float(np.max(np.abs(lams[max(k - 1, 0) : k + 2] - lams[k])))
+        past_peak = termination in ("softening", "snap_back")
+        end = 0.0 if past_peak else criteria.remaining_rise()
+        return {"load step": step, "end of path": end, "residual": criteria.error[k]}
+
     def _constraint(self, dc: float) -> Constraint:
         return Constraint(w=self.w, c=float(self.w @ self.point.u) + dc, dc=dc)
 
@@ -169,10 +191,6 @@ class PathFollower:
         if self.dc >= self.settings.min_step_ratio * self.dc_ref:
             return None
         lam = self.point.lam
-        if self.criteria.near_plateau:
-            # the smallest step fails on a plateau reached a while ago: that is the collapse
-            logger.warning("step cut below the minimum on the plateau at lambda = %.6g", lam)
-            return "plateau", ""
         if self.model.law.keep_breaks(out.point.ev.law):
             # brittle cascade (mortar cracking that snaps back): keep the cracks of the failed
             # trial, re-start from the last equilibrium; lambda drops
@@ -227,64 +245,41 @@ class PathFollower:
         if new.lam > self.peak.lam:
             law = new.ev.law
             self.peak = Peak(new.lam, new.u.copy(), law.f.copy(), law.state.copy())
-        # lambda is known to the residual tolerance the step met (relative to the loads)
-        lam_noise = self.corrector.tolerance(new.lam, out.loose) / self.model.live_norm
-        end = self.criteria.add(new.lam, float(self.model.w @ new.u), lam_noise, out.loose)
-        if end == "plateau":
-            self._warn_still_rising()
+        # lambda is known to the residual tolerance the step met (relative to the loads), and
+        # more closely to the residual it reached (down to the round-off of the loads)
+        corrector, live = self.corrector, self.model.live_norm
+        lam_noise = corrector.tolerance(new.lam, out.loose) / live
+        loads = corrector.tolerance(new.lam) / self.settings.tolerance
+        lam_error = max(new.norm, ROUND_OFF * loads) / live
+        c = float(self.model.w @ new.u)
+        end = self.criteria.add(new.lam, c, lam_noise, out.loose, lam_error)
         if end is not None:
             return end, ""
         # a loose step stalled at a kink of the law, which a shorter step does not remove
         target = self.settings.target_iterations
         growth = 1.0 if out.loose else math.sqrt(target / max(out.iterations, 1))
-        self.dc = min(self.dc * min(max(growth, 0.5), 2.0), self.dc_max)
+        self.dc *= min(max(growth, 0.5), 2.0)
+        if not self.criteria.approaching():
+            self.dc = min(self.dc, self.dc_max)
         return None
 
-    def _warn_still_rising(self) -> None:
-        """Warn when a plateau ends a path whose peak still rose by more than ``SLOW_RISE``
-        of itself over the last ``plateau_window`` of it and still creeps up: at its last
-        step (rising less than ten times lambda's noise, so counted as flat) at more than a
-        tenth of that stretch's mean slope, as an approach ``lambda_inf - a / c`` does (half
-        of it). A block tipping on a 20 degree slope
-        (resultant law) ended so 12 % below its limit; a path that rose, then stayed flat at
-        its limit (an arch at its exact 0.285159) is not warned about."""
-        criteria = self.criteria
-        noise = self.corrector.tolerance(criteria.peak) / self.model.live_norm
-        rise = criteria.recent_rise() / criteria.peak
-        ctrl, lams = criteria.ctrl, criteria.lams
-        slope_last = (lams[-1] - lams[-2]) / max(ctrl[-1] - ctrl[-2], 1e-300)
-        window = self.settings.plateau_window * (ctrl[-1] - ctrl[0])
-        creeping = slope_last > 0.1 * criteria.recent_rise() / max(window, 1e-300)
-        if creeping and rise > SLOW_RISE and criteria.recent_rise() > 10.0 * noise:
-            other = "the fibre law or " if self.model.law.settings.name == "resultant" else ""
-            logger.warning(
-                "plateau at lambda = %.6g although lambda rose by %.2g %% over the last %g of "
-                "the path, in steps too short to resolve: a slow approach to a limit (e.g. a "
-                "joint rocking about an edge with the resultant law) may end higher; %s"
-                "limit.limit_analysis bound it",
-                criteria.peak, 100 * rise, self.settings.plateau_window, other,
-            )  # fmt: skip
-
     def _still_rising(self) -> str:
-        """Why a path that reached ``max_steps`` is no collapse: how fast lambda still rises."""
+        """Why a path that reached ``max_steps`` is no collapse: how much lambda may still
+        rise."""
         criteria = self.criteria
         slope = criteria.secant_slope(self.settings.plateau_steps * criteria.dc0)
         if slope is None:
             slope = criteria.secant_slope(0.0)
         ratio = 0.0 if slope is None or not criteria.slope0 else slope / criteria.slope0
+        rise = criteria.remaining_rise()
+        more = (
+            "an unknown amount (it does not approach a limit yet)"
+            if math.isinf(rise)
+            else f"about {rise:.3g} ({100 * rise / max(criteria.peak, 1e-300):.2g} %)"
+        )
         reason = (
             f"still rising at {100 * ratio:.2g} % of the initial slope after max_steps = "
-            f"{self.settings.max_steps}"
+            f"{self.settings.max_steps}; lambda may still rise by {more}"
         )
-        if ratio < self.settings.plateau_slope and criteria.peak > 0:
-            # flat by the slope test, yet the peak keeps rising along the path
-            rise = criteria.recent_rise() / criteria.peak
-            other = "the fibre law or " if self.model.law.settings.name == "resultant" else ""
-            reason += (
-                f", and by {100 * rise:.2g} % over the last {self.settings.plateau_window:g} "
-                "of the path: a slow approach to a limit (a joint rocking on a shrinking "
-                "compressed part, e.g. the resultant law's about a corner) or slow hardening; "
-                f"more max_steps, {other}limit.limit_analysis give the limit"
-            )
         logger.warning(reason)
         return reason

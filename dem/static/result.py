@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.kernels.interface_law import (
     STATE_CRUSHED,
     STATE_DETACHED,
@@ -101,7 +102,13 @@ class StaticResult:
         converged even at the smallest increment) or ``"no_mechanism"`` (the live load does
         no work on any motion the joints allow: lambda is unbounded).
     wall_s : float
-        Wall time [s].
+        Wall time [s] of the run that gave ``lambda_max`` (the error estimate's extra runs
+        are in ``lambda_estimate.cost_s``).
+    lambda_estimate : Estimate
+        ``lambda_max`` with its half-width by source (:func:`dem.static.solve_collapse`,
+        ``error``): ``"end of path"`` (how much lambda may still rise: ``inf`` on a path that
+        does not approach a limit yet), ``"load step"``, ``"residual"``; a half-width
+        ``inf`` under ``"not estimated"`` with ``error="none"``.
     settings : dict
     fibre_grid : GridRefinement or None
         The fibre grids the analysis ran on, coarse to fine (this result is the finest), and
@@ -133,6 +140,7 @@ class StaticResult:
     failure: str
     termination: str
     wall_s: float
+    lambda_estimate: Estimate
     settings: dict = field(default_factory=dict)
     fibre_grid: GridRefinement | None = None
 

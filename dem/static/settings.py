@@ -206,17 +206,18 @@ class StaticSettings:
         blocks, resultant law: with the switch only at ``min_step_ratio`` it stalled after
         715 s; with 3, a plateau).
     plateau_slope : float
-        A step is on the collapse plateau when ``d lambda / d c`` is below this fraction of
-        the initial secant slope (measured back over at least the control length at which
-        the residual tolerance's noise in lambda is a tenth of the allowed rise).
+        The end is sought only where ``d lambda / d c`` is below this fraction of the
+        initial secant slope (measured back over at least the control length at which the
+        residual tolerance's noise in lambda is a tenth of the allowed rise).
     plateau_steps : int
-        Consecutive plateau steps that end the analysis, if they also span this many first
+        Consecutive such steps that may end the analysis, if they also span this many first
         control increments.
     plateau_rise, plateau_window : float
-        While lambda still rises at every step, a plateau also needs its peak to have risen
-        by less than ``plateau_rise`` of itself over the last ``plateau_window`` of the
-        control displacement (:mod:`dem.collapse_criteria`): slow frictional hardening is not
-        taken for the collapse.
+        The stated tolerance of the end: the path is a collapse once lambda may still rise
+        by at most ``plateau_rise`` of itself, estimated from its rises over the stretches
+        ``[s (1 - w)^2, s (1 - w)]`` and ``[s (1 - w), s]`` of the travelled control ``s``,
+        ``w = plateau_window`` (:mod:`dem.collapse_criteria`); that estimate is the
+        result's "end of path" error.
     softening_drop : float
         End when lambda falls below ``(1 - softening_drop) lambda_max``.
     dead_steps : int

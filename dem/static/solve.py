@@ -9,6 +9,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from dem.estimate import ErrorBudget, Estimate, check_error_budget
 from dem.scene import Scene
 from dem.static.adaptive_grid import refine_fibre_grid
 from dem.static.dead_load import solve_dead_load
@@ -22,7 +23,9 @@ from dem.static.settings import StaticSettings
 logger = logging.getLogger(__name__)
 
 
-def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> StaticResult:
+def solve_collapse(
+    scene: Scene, settings: StaticSettings | None = None, *, error: ErrorBudget = "cheap"
+) -> StaticResult:
     r"""Dead load, then the live load to collapse (seed 001, Sec. 2.3).
 
     Parameters
@@ -31,6 +34,11 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         Blocks, supports, dead load (self weight + ``dead_wrench``) and the live pattern
         ``live_wrench`` scaled by lambda.
     settings : StaticSettings, optional
+    error : {"none", "cheap", "full"}
+        What ``lambda_estimate`` spends: ``"cheap"`` the sources the path gives for free
+        (:meth:`dem.static.path.PathFollower.error_sources`); ``"full"`` also a second run at
+        twice the load step, whose change of ``lambda_max`` bounds the load-step error
+        (first order: the error of the finer run is about the change); ``"none"`` nothing.
 
     Returns
     -------
@@ -60,7 +68,7 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
     rocking uplift of either law (both hinge a joint on its edges) against immovable supports
     (fixed columns) builds unbounded arching unless a ``compressive_strength`` bounds it.
     """
-    start = time.perf_counter()
+    check_error_budget(error)
     settings = StaticSettings() if settings is None else settings
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a dem.scene.Scene, got {type(scene).__name__}")
@@ -70,29 +78,67 @@ def solve_collapse(scene: Scene, settings: StaticSettings | None = None) -> Stat
         )
     law = settings.law_settings
     if getattr(law, "grid_tolerance", None) is not None:
-        return _solve_on_refined_grids(scene, settings)
+        return _solve_on_refined_grids(scene, settings, error)
+    result = _solve(scene, settings, error)
+    if error == "full" and result.collapsed:
+        result = _with_load_step_error(scene, settings, result)
+    if not result.collapsed and settings.on_failure == "raise":
+        raise NoCollapseError(result.failure, result)
+    return result
+
+
+def _solve(scene: Scene, settings: StaticSettings, error: str) -> StaticResult:
+    """One run to collapse (or not), with its free error sources unless ``error="none"``."""
+    start = time.perf_counter()
     model = Model(scene, settings)
     corrector = Corrector(model, settings)
     dead, n_iter = solve_dead_load(corrector)
     logger.debug("dead load: %d iterations", n_iter)
     reason = "" if settings.compressive_strength else no_mechanism_reason(model)
     if reason:
-        return _finish(model, _Unloaded(model, dead, n_iter), "no_mechanism", reason, start)
-    path = PathFollower(model, corrector, dead, n_iter)
-    termination, reason = path.run()
-    return _finish(model, path, termination, reason, start)
+        path, termination = _Unloaded(model, dead, n_iter), "no_mechanism"
+    else:
+        path = PathFollower(model, corrector, dead, n_iter)
+        termination, reason = path.run()
+    result = _finish(model, path, termination, reason, start)
+    if error == "none":
+        estimate = Estimate.unknown(result.lambda_max, 'error="none"')
+    else:
+        estimate = Estimate(result.lambda_max, path.error_sources(termination))
+    return replace(result, lambda_estimate=estimate)
 
 
-def _solve_on_refined_grids(scene: Scene, settings: StaticSettings) -> StaticResult:
+def _with_load_step_error(
+    scene: Scene, settings: StaticSettings, result: StaticResult
+) -> StaticResult:
+    """``result`` whose load-step source is the change of ``lambda_max`` at twice the load
+    step (``inf`` if that run does not collapse), not less than the free bound."""
+    coarse = _solve(scene, replace(settings, load_step=2 * settings.load_step), "none")
+    change = abs(coarse.lambda_max - result.lambda_max) if coarse.collapsed else math.inf
+    est = result.lambda_estimate
+    width = max(change, est.sources.get("load step", 0.0))
+    notes = f"load step: change of lambda_max at twice the step ({coarse.lambda_max:.6g})"
+    estimate = replace(est.with_source("load step", width, coarse.wall_s), notes=notes)
+    return replace(result, lambda_estimate=estimate)
+
+
+def _solve_on_refined_grids(scene: Scene, settings: StaticSettings, error: str) -> StaticResult:
     """The fibre law on grids refined until lambda settles (:mod:`dem.static.adaptive_grid`);
-    the result of the finest grid, with the grids and the last change of lambda."""
+    the result of the finest grid, with the grids and the last change of lambda (its
+    ``"fibre grid"`` error source; the coarser grids' time is the estimate's cost)."""
     start = time.perf_counter()
     once = replace(settings, on_failure="return")
-    result, refinement = refine_fibre_grid(once, lambda s: solve_collapse(scene, s))
+    result, refinement = refine_fibre_grid(once, lambda s: solve_collapse(scene, s, error=error))
+    wall = time.perf_counter() - start
+    estimate = result.lambda_estimate
+    if error != "none":
+        for name, width in refinement.error_sources().items():
+            estimate = estimate.with_source(name, width, max(wall - result.wall_s, 0.0))
     result = replace(
         result,
         fibre_grid=refinement,
-        wall_s=time.perf_counter() - start,
+        lambda_estimate=estimate,
+        wall_s=wall,
         settings=settings.to_dict(),
     )
     if not result.collapsed and settings.on_failure == "raise":
@@ -116,6 +162,10 @@ class _Unloaded:
     def pushover(self) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros(1), np.array([self.c0])
 
+    def error_sources(self, termination: str) -> dict[str, float]:
+        """None: the multiplier is unbounded, exactly."""
+        return {}
+
 
 def _monitor(model: Model, settings: StaticSettings, mech: np.ndarray) -> tuple[int, int]:
     """The ``(block, dof)`` recorded along the pushover."""
@@ -130,7 +180,7 @@ def _monitor(model: Model, settings: StaticSettings, mech: np.ndarray) -> tuple[
 
 
 def _finish(model: Model, path, termination: str, reason: str, start: float) -> StaticResult:
-    """The :class:`StaticResult` of a run; raise :class:`NoCollapseError` per ``on_failure``."""
+    """The :class:`StaticResult` of a run (its ``lambda_estimate`` not yet estimated)."""
     settings = model.settings
     mech = model.full(path.last_du)
     scale = np.abs(mech[:, :3]).max()
@@ -167,6 +217,7 @@ def _finish(model: Model, path, termination: str, reason: str, start: float) -> 
         failure="" if collapsed else reason,
         termination=termination,
         wall_s=time.perf_counter() - start,
+        lambda_estimate=Estimate.unknown(float(peak.lam)),
         settings=settings.to_dict(),
     )
     logger.info(
@@ -178,6 +229,4 @@ def _finish(model: Model, path, termination: str, reason: str, start: float) -> 
         result.wall_s,
         termination,
     )
-    if not collapsed and settings.on_failure == "raise":
-        raise NoCollapseError(reason, result)
     return result
