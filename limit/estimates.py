@@ -85,9 +85,8 @@ def _finite(mu: np.ndarray) -> np.ndarray:
 
 
 def default_updates(scene: Scene) -> int:
-    """Default budget of capacity updates of estimate (b): ``max(30, 2 n_free)``. The
-    iteration settles a few blocks per update; a 45-block dry wall (seed 001's Orduna panel)
-    took 28 to 31 updates in our runs."""
+    """Default budget of capacity updates of estimate (b): ``max(30, 2 n_free)``, since the
+    iteration settles a few blocks per update."""
     return max(MIN_UPDATES, 2 * int(np.count_nonzero(~scene.supports.fixed)))
 
 
@@ -244,8 +243,7 @@ def iterative_estimate(
     settings : LimitSettings, optional
     max_updates : int, optional
         Largest number of capacity updates (re-solves); default :func:`default_updates`.
-        (Formerly ``max_iter``, a name now refused: it is Clarabel's in
-        :class:`LimitSettings`.)
+        (``max_iter`` is refused: it names Clarabel's limit in :class:`LimitSettings`.)
     omega : float
         Relaxation in (0, 1]: ``c_cap <- (1 - omega) c_cap + omega c_new``.
     tol : float

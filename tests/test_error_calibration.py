@@ -25,6 +25,9 @@ Catalogue (limit analysis, :mod:`limit.lambda_error`):
   digits): the certified bisection of 20 and 40 voussoirs, extrapolated in the voussoir
   count (order 2, :func:`dem.estimate.richardson`), with the two bisection brackets.
 
+Static DEM (:func:`dem.static.solve_collapse`, ``StaticResult.lambda_estimate``): the same
+blocks and stacks, resultant and fibre laws.
+
 Explicit DEM (:func:`dem.explicit.simulate_lateral`): stacks of one to three blocks tipping
 at b / (n h) or sliding at mu, with rigid joints (``error="cheap"``: load step, detection,
 loading rate) and with soft joints continued to rigid ones (``RigidContinuation``).
@@ -51,6 +54,10 @@ LA_RESOLUTION = 1e-8
 """Resolution of a limit-analysis multiplier relative to max(1, |lambda|): ten times
 Clarabel's tolerance (1e-9, :class:`limit.LimitSettings`)."""
 COVERAGE = 0.95
+BLOCKS = [(0.2, 0.5, 0.7), (0.4, 0.5, 0.3), (0.3, 0.4, 0.9), (0.5, 0.3, 0.4)]
+"""(width, height, mu) of single blocks: tipping at b/h or sliding at mu."""
+STACKS = [(2, 0.3, 0.4, 0.8), (3, 0.4, 0.25, 0.9), (3, 0.6, 0.2, 0.5)]
+"""(n, width, height, mu) of aligned stacks: tipping at b/(n h) or sliding at mu."""
 RATIO = 10.0
 
 
@@ -115,7 +122,7 @@ def limit_cases() -> list[Case]:
     cases = []
     for model in ("vertex", "resultant"):
         s = LimitSettings(interface_model=model)
-        for w, h, mu in [(0.2, 0.5, 0.7), (0.4, 0.5, 0.3), (0.3, 0.4, 0.9), (0.5, 0.3, 0.4)]:
+        for w, h, mu in BLOCKS:
             cases.append(
                 _la_case(
                     f"block {w}x{h} mu {mu} [{model}]",
@@ -124,7 +131,7 @@ def limit_cases() -> list[Case]:
                     s,
                 )
             )
-        for n, b, h, mu in [(2, 0.3, 0.4, 0.8), (3, 0.4, 0.25, 0.9), (3, 0.6, 0.2, 0.5)]:
+        for n, b, h, mu in STACKS:
             cases.append(
                 _la_case(
                     f"stack of {n}, {b}x{h}, mu {mu} [{model}]",
@@ -227,6 +234,40 @@ def arch_cases() -> list[Case]:
     return [Case("least t/r, semicircular arch", _arch_extrapolated, HEYMAN_T_OVER_R, 5e-5, 0.0)]
 
 
+def _static(scene_fn, model: str) -> Estimate:
+    from dem.static import StaticSettings, solve_collapse
+
+    return solve_collapse(scene_fn(), StaticSettings(interface_model=model)).lambda_estimate
+
+
+def static_cases() -> list[Case]:
+    """Blocks and stacks of :func:`limit_cases` with both interface laws, the default
+    (``"cheap"``) budget. Resolution: the residual tolerance of the solve (1e-6 of the loads,
+    :class:`dem.static.StaticSettings`), relative to max(1, lambda)."""
+    from dem.static import StaticSettings
+
+    resolution = StaticSettings().tolerance
+    cases = []
+    for model in ("resultant", "fibre"):
+        for w, h, mu in BLOCKS:
+            cases.append(Case(
+                f"static: block {w}x{h} mu {mu} [{model}]",
+                lambda w=w, h=h, mu=mu, m=model: _static(
+                    lambda: block_on_ground(w, 0.3, h, mu), m
+                ),
+                min(mu, w / h), 0.0, resolution * max(1.0, min(mu, w / h)),
+            ))  # fmt: skip
+        for n, b, h, mu in STACKS:
+            cases.append(Case(
+                f"static: stack of {n}, {b}x{h}, mu {mu} [{model}]",
+                lambda n=n, b=b, h=h, mu=mu, m=model: _static(
+                    lambda: stack(n, b, 0.3, h, mu=mu), m
+                ),
+                min(mu, b / (n * h)), 0.0, resolution,
+            ))  # fmt: skip
+    return cases
+
+
 EXPLICIT_RESOLUTION = 1e-9
 """No explicit multiplier is nearer than its bracket's width to the answer by round-off: any
 true error above this counts."""
@@ -306,6 +347,10 @@ def test_arch_least_thickness_bar_is_calibrated():
     check(run_catalogue(arch_cases()))
 
 
+def test_static_dem_bars_are_calibrated():
+    check(run_catalogue(static_cases()))
+
+
 def test_explicit_bars_are_calibrated_fast_subset():
     check(run_catalogue(explicit_cases(fast=True)))
 
@@ -332,6 +377,7 @@ if __name__ == "__main__":  # the counts for a report: python -m tests.test_erro
         ("limit", limit_cases()),
         ("tresca", tresca_cases()),
         ("arch", arch_cases()),
+        ("static", static_cases()),
         ("explicit", explicit_cases(fast=False)),
     )
     for name, cases in catalogue:

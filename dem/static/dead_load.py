@@ -85,9 +85,9 @@ def check_closure(model, point: Iterate) -> None:
     The interface laws take gaps within the touching gap (``TOUCH`` times the model's extent,
     :mod:`dem.kernels.interface_law`) as touching, with no friction: where the elastic
     closures are that small (joint stiffness far above the loads' pressure over round-off),
-    a joint in full contact counts as barely touching, and a block on the ground slid at a
-    multiplier of 4e-7 (``k_n = 5e15`` Pa/m) instead of ``mu``. The collapse load does not
-    depend on ``k_n``, so a lower one loses nothing.
+    a joint in full contact would count as barely touching and a block on the ground would
+    slide at a vanishing multiplier instead of ``mu``. The collapse load does not depend on
+    ``k_n``, so a lower one loses nothing.
     """
     if model.dead_norm == 0.0:
         return

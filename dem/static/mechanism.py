@@ -6,8 +6,7 @@ A mechanism is a motion ``U`` of the free dofs that opens no interface: the norm
 positive work on any such motion, no multiplier can make the assembly collapse (kinematic
 theorem with the least restrictive joints that crush nothing): ``solve_collapse`` then ends at
 once with termination ``"no_mechanism"`` instead of following an elastic path to
-``max_steps`` (issue 11, item 3: a downward live load reached lambda = 787). With a
-compressive strength joints can crush, and the check does not apply.
+``max_steps``. With a compressive strength joints can crush, and the check does not apply.
 """
 
 from __future__ import annotations

@@ -60,10 +60,13 @@ class LinearSolver:
     Between two Newton iterations only the interfaces that change state change the tangent:
     a low-rank update, which GMRES preconditioned with the previous factorisation resolves in
     a few iterations. A new factorisation is made when GMRES does not reach ``rtol`` within
-    ``max_krylov`` iterations, and reuse stops once it fails more often than not.
+    ``max_krylov`` iterations, and reuse stops once it fails more often than not. Each GMRES
+    iteration is a solve with the old LU, whose cost relative to a factorisation grows with
+    the model (memory-bound triangular solves): ``max_krylov`` solves must stay well below
+    one factorisation on the largest models too.
     """
 
-    def __init__(self, rtol: float = 1e-10, max_krylov: int = 30):
+    def __init__(self, rtol: float = 1e-10, max_krylov: int = 10):
         self.lu = None
         self.rtol = rtol
         self.max_krylov = max_krylov

@@ -5,13 +5,11 @@ Each live step prescribes the increment of a control ``w . u`` and solves for ``
 
 - **control**: first ``w = F_L / |F_L|_1``, so ``c = w . u`` is the live-load-weighted mean
   displacement [m]. After ``switch_after`` consecutive failed steps (near some peaks the
-  path turns in ``c``, or a local mechanism forms that ``c`` hardly measures: seed 001 S15
-  and S6 with return walls, resultant law), ``w`` becomes the unit direction of the previous
-  increment (the updated normal plane of Riks' method), the first step as long as that
-  increment and the step unit the length of the first increment; this follows the path
-  through limit points and snap-backs. Halving the fixed control's step down to
-  ``min_step_ratio`` first cost up to 40 Newton iterations per halving and left the path
-  creeping in steps of 1e-3 first increments at a constant lambda (S6: stalled after 715 s);
+  path turns in ``c``, or a local mechanism forms that ``c`` hardly measures), ``w`` becomes
+  the unit direction of the previous increment (the updated normal plane of Riks' method),
+  the first step as long as that increment and the step unit the length of the first
+  increment; this follows the path through limit points and snap-backs, where halving the
+  fixed control's step would leave the path creeping at a constant lambda;
 - **step size**: the increment adapts to the Newton iteration count (``target_iterations``),
   halves on a failed step, and stays within ``max_step_factor`` first increments unless the
   path is flat and approaches a limit

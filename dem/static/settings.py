@@ -50,18 +50,14 @@ class ResultantLawSettings:
         aspect ratio.
     tangent_floor : float
         Fraction of the elastic stiffness kept by yielded components of the iteration matrix
-        (the residual uses the exact law). Blocks held only by yielded joints make the tangent
-        nearly singular without it. The law's normal part is smooth (joints open
-        progressively), and as for the fibre law a floor near the consistent tangent converges
-        best (1e-9): at 1e-4 the dead load of S13 with return walls of blocks crept (head
-        joints barely pressed, partly open and sliding) and found no equilibrium; 1e-6 and
-        1e-9 gave the same lambda_max to 0.03 % on it, S13 with a fixed column, the 3 x 13
-        Orduna panel and a dry wall.
+        (the residual uses the exact law), so that blocks held only by yielded joints keep a
+        regular tangent. The law's normal part is smooth (joints open progressively), so a
+        floor near the consistent tangent (the default) converges; a stiffer one can leave
+        barely pressed joints that open and slide creeping without equilibrium.
     predictor : bool
-        Start each step from the last increment scaled to the new one: without it the first
-        iterate of every step unloaded the joints that keep yielding and the path crept
-        (seed 001 S13 with a fixed column: lambda 0.048 at max_steps, with it a plateau at
-        0.087 in 45 steps).
+        Start each step from the last increment scaled to the new one, so that the first
+        iterate of a step does not unload the joints that keep yielding (which lets the path
+        creep below the collapse plateau).
     accept_tolerance : float or None
         Looser residual at which a step stalled at a kink of the law is accepted; None: the
         analysis tolerance (no loose steps: loosely converged steps committed plastic states
@@ -98,12 +94,12 @@ class FibreLawSettings:
         ``4 points`` cells per side (none on the edges): rocking comes out low by about half
         a cell.
     tangent_floor : float
-        As for the resultant law. The fibre law, whose yielded springs are only a part of each
-        joint, converges best near the consistent tangent (1e-9).
+        As for the resultant law (yielded springs are only a part of each joint); the default
+        is near the consistent tangent.
     predictor : bool
-        Start each step from the scaled last increment. Off: the fibre law converges from the
-        last equilibrium in a few iterations, and the predictor's longer steps made its
-        lambda_max vary by 1.7 % with the load step (S15 with return walls; 0.2 % without).
+        Start each step from the scaled last increment. Off by default: the fibre law
+        converges from the last equilibrium in a few iterations, and the predictor's longer
+        steps make its lambda_max depend on the load step.
     accept_tolerance : float or None
         Looser residual at which a step stalled at a kink (a joint at ``N -> 0``) is accepted;
         the residual is of the total equilibrium, so the error does not accumulate.
@@ -202,9 +198,8 @@ class StaticSettings:
     switch_after : int
         Consecutive failed steps after which the fixed control gives way to the path
         direction (:mod:`dem.static.path`): the path turns away from the control, or a local
-        mechanism forms that the control hardly measures (seed 001 S6 with return walls of
-        blocks, resultant law: with the switch only at ``min_step_ratio`` it stalled after
-        715 s; with 3, a plateau).
+        mechanism forms that the control hardly measures; switching early keeps the path from
+        creeping at a constant lambda while the fixed control's step is halved.
     plateau_slope : float
         The end is sought only where ``d lambda / d c`` is below this fraction of the
         initial secant slope (measured back over at least the control length at which the

@@ -298,3 +298,14 @@ def test_outside_a_run_side_products_never_go_to_the_committed_results(monkeypat
 
     monkeypatch.delenv("BLOCKMECH_RESULTS", raising=False)
     assert output_dir() == QUICK_RESULTS_DIR != RESULTS_DIR
+
+
+def test_a_full_run_of_every_case_refuses_a_dirty_tree(monkeypatch, capsys):
+    """Full results come from one clean commit: ``validation all`` stops before any case runs
+    when the tree has uncommitted changes (``--allow-dirty`` overrides)."""
+    import validation.catalogue as catalogue
+
+    monkeypatch.setattr(cli, "git_dirty", lambda: (True, ["limit/solve.py"]))
+    monkeypatch.setattr(catalogue, "run_case", lambda *a, **k: pytest.fail("a case ran"))
+    assert cli.main(["all"]) == 2
+    assert "limit/solve.py" in capsys.readouterr().err

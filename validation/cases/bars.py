@@ -59,11 +59,9 @@ def two_levels(fine: float, coarse: float, source: str, notes: str = "") -> Esti
 
 def static_lambda(result, scale: float = 1.0) -> Estimate:
     """The static DEM's collapse multiplier times ``scale`` with the solver's own error bar
-    (``StaticResult.lambda_estimate``: load step, fibre grid, end of path), scaled; unknown
-    where the solver gives none."""
-    own = getattr(result, "lambda_estimate", None)
-    if own is None:
-        return Estimate.unknown(result.lambda_max * scale, "the static DEM gives no error bar")
+    (``StaticResult.lambda_estimate``: end of path, load step, residual, fibre grid), every
+    source scaled too."""
+    own = result.lambda_estimate
     sources = {k: w * abs(scale) for k, w in own.sources.items()}
     return Estimate(result.lambda_max * scale, sources, own.cost_s, own.notes)
 

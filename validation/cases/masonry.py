@@ -209,8 +209,10 @@ def _fibre_grid_check(row: Row, result: StaticResult | None, scene, settings) ->
     row.extra["lambda_fibre_check"] = lam
     base = result.lambda_max if result is not None and result.collapsed else None
     row.extra["fibre_grid_change"] = None if base is None or lam is None else lam / base - 1.0
-    if row.ours is not None and base is not None and lam is not None:
-        # the grid's share of the bar, measured: lambda scales with the row's unit
+    has_grid = any(k.startswith("fibre grid") for k in row.error_sources)
+    if row.ours is not None and base is not None and lam is not None and not has_grid:
+        # the grid's share of the bar, measured (where the solver's own bar has none): lambda
+        # scales with the row's unit
         width = abs(lam - base) * abs(row.ours / base)
         row.error_sources = {**row.error_sources, FIBRE_GRID_SOURCE: width}
 

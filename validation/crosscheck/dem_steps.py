@@ -48,8 +48,8 @@ class StaticCollapse:
             "n_iterations": res.n_iterations,
             "failure": res.failure,
         }
-        # the solver's own bar of lambda_max where it gives one (load step, grid, end of path)
-        values = put_estimates(values, lambda_max=getattr(res, "lambda_estimate", None))
+        # the solver's own bar of lambda_max (end of path, load step, residual)
+        values = put_estimates(values, lambda_max=res.lambda_estimate)
         reason = "" if values["collapsed"] else f"ended by {res.termination}: not a collapse"
         return StepResult(
             self.name, self.method, "ok", reason, res.wall_s, asdict(settings), values, res
