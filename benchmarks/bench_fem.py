@@ -27,7 +27,6 @@ Target of issue 6: under 60 s on 2 cores including meshing. Wall-clock on a shar
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
@@ -48,7 +47,7 @@ from validation.cases.fem import (
     solve_assembly,
     synthetic_tis_state,
 )
-from validation.provenance import REPO, stamp
+from validation.provenance import REPO, write_stamped
 from validation.report import input_path
 
 SPEED_ERROR_DIR = REPO / "benchmarks" / "results"
@@ -106,12 +105,8 @@ def speed_error() -> dict:
 
 
 def write_speed_error(out: str | None) -> None:
-    t0 = time.perf_counter()
-    data = speed_error()
-    data = {**stamp(), "wall_s": time.perf_counter() - t0, **data}
     path = Path(out) if out else SPEED_ERROR_DIR / "speed-error-fem.json"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(data, indent=1))
+    data = write_stamped(path, speed_error)
     for s in data["series"]:
         print(s["label"])
         for h, c, e, t in zip(s["h_mm"], s["cost_s"], s["estimated"], s["true"], strict=True):

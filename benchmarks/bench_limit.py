@@ -50,7 +50,7 @@ from pathlib import Path
 from dem.scenes.running_bond_wall import running_bond_wall
 from limit.problems import LimitSettings, build_static_problem
 from limit.solve import limit_analysis, solve_static
-from validation.provenance import REPO, stamp
+from validation.provenance import REPO, write_stamped
 
 SIZES_FULL = ((6, 13), (12, 21), (24, 40), (50, 60))
 SIZE_HUGE = (70, 140)
@@ -129,12 +129,8 @@ def speed_error() -> dict:
 
 
 def write_speed_error(out: str | None) -> None:
-    t0 = time.perf_counter()
-    data = speed_error()
-    data = {**stamp(), "wall_s": time.perf_counter() - t0, **data}
     path = Path(out) if out else SPEED_ERROR_DIR / "speed-error-limit.json"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(data, indent=1))
+    data = write_stamped(path, speed_error)
     for s in data["series"]:
         print(s["label"])
         for c, e, t in zip(s["cost_s"], s["estimated"], s["true"], strict=True):

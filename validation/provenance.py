@@ -8,8 +8,11 @@ commit.
 from __future__ import annotations
 
 import datetime
+import json
 import platform
 import subprocess
+import time
+from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -73,3 +76,14 @@ def stamp() -> dict[str, Any]:
         "git_dirty_files": files,
         "date": now(),
     }
+
+
+def write_stamped(path: Path, make: Callable[[], dict[str, Any]]) -> dict[str, Any]:
+    """Run ``make``, stamp its record (:func:`stamp`, plus its ``wall_s`` [s]) and write it
+    as JSON to ``path`` (folders made); return the record."""
+    t0 = time.perf_counter()
+    data = make()
+    data = {**stamp(), "wall_s": time.perf_counter() - t0, **data}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(data, indent=1))
+    return data

@@ -309,3 +309,16 @@ def test_a_full_run_of_every_case_refuses_a_dirty_tree(monkeypatch, capsys):
     monkeypatch.setattr(catalogue, "run_case", lambda *a, **k: pytest.fail("a case ran"))
     assert cli.main(["all"]) == 2
     assert "limit/solve.py" in capsys.readouterr().err
+
+
+def test_write_stamped_records_provenance_and_wall_time(tmp_path):
+    import json
+
+    from validation.provenance import write_stamped
+
+    path = tmp_path / "sub" / "record.json"
+    data = write_stamped(path, lambda: {"series": [1, 2]})
+    on_disk = json.loads(path.read_text())
+    assert on_disk == data
+    assert on_disk["series"] == [1, 2] and on_disk["wall_s"] >= 0.0
+    assert {"git_commit", "git_clean", "date"} <= set(on_disk)
