@@ -41,6 +41,18 @@ METHODS = (  # case-name prefix -> label
 )
 
 
+def style_axes(ax, title: str, xlabel: str, legend_loc: str) -> None:
+    """Log-log axes of relative error [-] against cost, titled, gridded, with a legend when
+    anything drawn has a label."""
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("relative error [-]")
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="major", alpha=0.3)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc=legend_loc)
+
 def method_of(case: str) -> str:
     for prefix, label in METHODS:
         if case.startswith(prefix):
@@ -92,14 +104,7 @@ def main() -> list[Path]:
         "model error (seed tables and experiments)",
     )
     for ax, title in zip(axes, titles, strict=True):
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("wall time [s]")
-        ax.set_ylabel("relative error [-]")
-        ax.set_title(title, fontsize=10)
-        ax.grid(True, which="major", alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7, loc="lower right")
+        style_axes(ax, title, "wall time [s]", "lower right")
     fig.tight_layout()
     path = OUT / "fig_speed_error.png"
     fig.savefig(path, dpi=150)

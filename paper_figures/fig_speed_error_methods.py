@@ -32,7 +32,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from paper_figures.fig_speed_error import FLOOR, SKIP, method_of  # noqa: E402
+from paper_figures.fig_speed_error import FLOOR, SKIP, method_of, style_axes  # noqa: E402
 from validation.report import is_published, reading_dir  # noqa: E402
 
 RESULTS = reading_dir()
@@ -119,14 +119,7 @@ def figure(method: str, rows: list, series: list) -> Path:
     for ax, (column, key, title) in zip(axes, panels, strict=True):
         if not _draw(ax, rows, series, column, key):
             ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center", color="0.5")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("cost: wall time [s]")
-        ax.set_ylabel("relative error [-]")
-        ax.set_title(title, fontsize=10)
-        ax.grid(True, which="major", alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7, loc="best")
+        style_axes(ax, title, "cost: wall time [s]", "best")
     fig.suptitle(f"speed against error: {method}", fontsize=11)
     fig.tight_layout()
     path = OUT / f"fig_speed_error_{slug(method)}.png"
