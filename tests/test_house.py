@@ -45,9 +45,6 @@ _WAITING = {
         "limit/safety.py::geometric_safety_factor",
         "limit/certificates.py::conic_certificate",
     ),
-    "files of the files helper this session (issue 29)": (
-        "validation/crosscheck/files.py::markdown",
-    ),
 }
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
 """(path, function) longer than ``SOFT_LIMIT`` that wait for their split, with the reason."""
