@@ -42,7 +42,6 @@ _WAITING = {
         "fem_check/rt_reconstruction.py::reconstruct_stress",
         "fem_check/rt_reconstruction.py::_solve_group",
         "fem_check/mesh.py::mesh_polyhedra",
-        "limit/safety.py::geometric_safety_factor",
         "limit/certificates.py::conic_certificate",
     ),
 }
