@@ -42,7 +42,6 @@ _WAITING = {
         "fem_check/rt_reconstruction.py::reconstruct_stress",
         "fem_check/rt_reconstruction.py::_solve_group",
         "fem_check/mesh.py::mesh_polyhedra",
-        "limit/certificates.py::conic_certificate",
     ),
 }
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
