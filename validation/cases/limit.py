@@ -135,7 +135,7 @@ def _bounds_rows(
     rows.append(
         Row(
             f"{label} [{model}] lower bound (frictionless) {unit_label}",
-            None if b.lower is None else per_unit(None, unit, b.lower),
+            None if b.lower is None else per_unit(b.lower_estimate, unit, b.lower),
             None,
             "Radenkovic second theorem (mu = 0)",
             b.wall_s.get("lower"),
