@@ -73,7 +73,9 @@ class TrescaSettings:
     qp_tol : float
         Gap and feasibility tolerances passed to Clarabel for the ``min_energy`` QP. The
         weights :math:`d_e/|e|` span orders of magnitude on random Voronoi cells (tiny edges),
-        and Clarabel's defaults (1e-8) leave ~1e-6 relative error on the forces. Default 1e-12.
+        and the error a gap ``g`` leaves on an edge force grows as ``sqrt(g / w_e)``
+        (:func:`min_energy_force_bound`), so the default is far tighter than Clarabel's own
+        (1e-8). Default 1e-12.
     feas_tol : float
         Relative tolerance of the certificates (equilibrium, friction bound, gap) above which
         the result is rejected with :class:`NumericalFailureError`. Default 1e-6.

@@ -35,9 +35,6 @@ _WAITING = {
         "dem/explicit/indentation.py::simulate_indentation",
         "dem/explicit/model.py::ExplicitModel.__init__",
     ),
-    "files of the static-scale helper this session (issue 26)": (
-        "dem/interface_strength/capacities.py::torsion_section",
-    ),
 }
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
 """(path, function) longer than ``SOFT_LIMIT`` that wait for their split, with the reason."""
