@@ -32,7 +32,6 @@ _WAITING = {
         "dem/contact_nodes.py::seed_contact_nodes",
         "dem/contact_nodes.py::seed_face",
         "dem/kernels/contact_force.py::contact_entries",
-        "dem/explicit/indentation.py::simulate_indentation",
         "dem/explicit/model.py::ExplicitModel.__init__",
     ),
 }
