@@ -35,19 +35,6 @@ _WAITING = {
         "dem/explicit/indentation.py::simulate_indentation",
         "dem/explicit/model.py::ExplicitModel.__init__",
     ),
-    "files of the static-scale helper this session (issue 26)": (
-        "dem/interface_strength/capacities.py::torsion_section",
-    ),
-    "files the errors-methods helper adds to this session (issue 28)": (
-        "fem_check/rt_reconstruction.py::reconstruct_stress",
-        "fem_check/rt_reconstruction.py::_solve_group",
-        "fem_check/mesh.py::mesh_polyhedra",
-        "limit/safety.py::geometric_safety_factor",
-        "limit/certificates.py::conic_certificate",
-    ),
-    "files of the files helper this session (issue 29)": (
-        "validation/crosscheck/files.py::markdown",
-    ),
 }
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
 """(path, function) longer than ``SOFT_LIMIT`` that wait for their split, with the reason."""
