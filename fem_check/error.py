@@ -27,9 +27,9 @@ meshes (mesh size times :data:`MESH_RATIO` per level):
 
 With P1 displacements (``"cheap"`` or ``"full"``) the reference is the P2 solution on the same
 mesh, source ``"P1/P2"`` = :math:`|s_{P1} - s_{P2}|`. The extremes of P1 stresses (constant per
-tetrahedron, and their L2 recovery) do not converge on unstructured meshes: on a bar in pure
-bending they stay 10-25 % off between h = 1 and 0.25 mm, so coarser P1 levels would only
-measure noise; P2 reproduces the linear part of the field that P1 misses.
+tetrahedron, and their L2 recovery) do not converge on unstructured meshes (not even on a bar
+in pure bending), so coarser P1 levels would only measure noise; P2 reproduces the linear part
+of the field that P1 misses.
 
 A cut through a block (:func:`fem_check.recovery.cut_resultant`) has an exact answer in the
 continuum: the resultant of the loads on one side (Cauchy). Its ``"equilibrium residual"``

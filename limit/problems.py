@@ -748,28 +748,14 @@ def build_kinematic_problem(scene: Scene, settings: LimitSettings | None = None)
         raise ValueError("the kinematic programme is written for the exact vertex model only")
     if settings.compressive_strength is not None:
         raise ValueError("the kinematic programme has no compressive strength")
-    interfaces = scene.assembly.interfaces()
-    interfaces.warn_edge_contacts()
-    free = scene.supports.free_dofs.ravel()
-    a_eq = equilibrium_matrix(scene.assembly.centroid, interfaces)[free]
-    dead = scene.dead_wrench.ravel()[free]
-    live = scene.loads.live_wrench.ravel()[free]
-    weight, _, row_scale = _scales(scene, free, interfaces)
-    live_norm = float(np.sum(np.abs(live * row_scale)))
-    lam_scale = 1.0 / live_norm if live_norm > 0 else 1.0
-    vi, _ = interface_vertices(interfaces)
-    mu = interface_friction(interfaces, scene.assembly.mu, settings.mu)[vi]
-    f_t = settings.tensile_strength * interfaces.area
-    f_offset = np.zeros(6 * interfaces.n_interfaces)
-    f_offset[0::6] = f_t
-    b = vertex_force_matrix(interfaces)
+    data = _scaled_data(scene, settings)  # vertex model: f_offset holds the tension shift
+    mu = data.mu_interface[data.vertex_iface]
+    b = vertex_force_matrix(data.interfaces)
     # scaled: rows by row_scale, corner forces by W (as in the static programme)
-    ab = (sp.diags(row_scale) @ a_eq @ b * weight).T.tocsr()  # (3 p, n_free)
-    d_dead = row_scale * (dead + a_eq @ f_offset)
-    d_live = row_scale * live * lam_scale
-    v = cp.Variable(len(dead), name="velocity")
+    ab = (data.s_rows @ data.a_eq @ b * data.weight).T.tocsr()  # (3 p, n_free)
+    v = cp.Variable(len(data.dead), name="velocity")
     w_p, w_1, w_2 = ab[0::3] @ v, ab[1::3] @ v, ab[2::3] @ v
-    cons = [d_live @ v >= 1]
+    cons = [data.d_live @ v >= 1]
     finite = np.isfinite(mu)
     sel = _subset(finite)
     if sel is not None:
@@ -784,5 +770,5 @@ def build_kinematic_problem(scene: Scene, settings: LimitSettings | None = None)
     if not finite.all():  # mu = inf: the corner cannot slip, it only opens
         stuck = np.flatnonzero(~finite)
         cons += [w_p[stuck] >= 0, w_1[stuck] == 0, w_2[stuck] == 0]
-    problem = cp.Problem(cp.Minimize(-d_dead @ v), cons)
-    return KinematicProblem(problem, v, lam_scale, row_scale, free)
+    problem = cp.Problem(cp.Minimize(-data.d_dead @ v), cons)
+    return KinematicProblem(problem, v, data.lam_scale, data.row_scale, data.free)

@@ -35,13 +35,6 @@ _WAITING = {
         "dem/explicit/indentation.py::simulate_indentation",
         "dem/explicit/model.py::ExplicitModel.__init__",
     ),
-    "files of the static-scale helper this session (issue 26)": (
-        "dem/interface_strength/capacities.py::torsion_section",
-    ),
-    "files the errors-methods helper adds to this session (issue 28)": (
-        "fem_check/rt_reconstruction.py::reconstruct_stress",
-        "fem_check/rt_reconstruction.py::_solve_group",
-    ),
 }
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
 """(path, function) longer than ``SOFT_LIMIT`` that wait for their split, with the reason."""

@@ -63,6 +63,7 @@ from dem.kernels.integrate import (
     quat_to_rot,
     run_steps,
 )
+from dem.kernels.interface_law import TOUCH
 from dem.scene import Assembly, Scene
 from dem.units import G
 
@@ -185,6 +186,7 @@ class ExplicitModel:
             math.cos(math.radians(FACE_ANGLE_DEG)) if settings.contact_plane == "compatible"
             else 2.0,
             float(settings.margin),
+            TOUCH * float(np.ptp(asm.arrays.vertices, axis=0).max()),
         )  # fmt: skip
         self.parallel = (
             settings.parallel

@@ -14,8 +14,17 @@ force on block ``a`` at ``x`` is (``-F`` acts on ``b`` at the same point)::
 - ``beta`` [s] is a stiffness-proportional normal dashpot (``beta = 2 zeta / omega_max``).
 - ``s`` (3,) [m] is the node's elastic shear displacement history relative to ``b``: each step it
   is rotated into the current tangent plane (length kept), incremented by the tangential
-  relative velocity times ``dt`` and capped so that ``k_t |s| <= mu sigma`` (seed 000 Eq. (1),
-  no static/kinetic distinction). ``k_t`` [Pa/m] is a shear traction per displacement.
+  relative velocity times ``dt`` and capped so that ``k_t |s| <= mu max(0, sigma - k_n
+  touch)`` (seed 000 Eq. (1), no static/kinetic distinction). ``k_t`` [Pa/m] is a shear
+  traction per displacement.
+- ``touch`` [m] is the touching depth (``law.touch``, ``TOUCH`` times the model's extent, as
+  in the static interface laws, :mod:`dem.kernels.interface_law`): the part of a penetration
+  within it carries no friction. Faces that conform at zero gap (vertical TIS faces at theta
+  = 0, masonry joints) touch at depths of round-off size (1e-19 m) whose signs and sizes
+  follow the arithmetic, not the geometry; the friction they would carry is a seed that a
+  friction-driven instability (a block sliding in a slot without clearance) amplifies, so
+  that the outcome would be decided by round-off. The friction cap stays continuous in the
+  depth.
 
 The per-item law is :func:`traction_one` (scalars only); :func:`contact_entries` evaluates a
 range of entries, writes only their rows and adds their wrenches to the block forces and
@@ -88,9 +97,9 @@ def traction_one(depth, normal, v_rel, shear, law, dt):
         Velocity of the node's material point relative to the neighbour's [m/s].
     shear : (float, float, float)
         Shear history at the start of the step [m].
-    law : (float, float, float, float)
-        ``(k_n, k_t, mu, beta)``: penalties [Pa/m], friction coefficient [-], normal
-        dashpot [s].
+    law : (float, float, float, float, float)
+        ``(k_n, k_t, mu, beta, touch)``: penalties [Pa/m], friction coefficient [-], normal
+        dashpot [s], touching depth without friction [m] (module docstring).
     dt : float
         Time step [s].
 
@@ -104,7 +113,7 @@ def traction_one(depth, normal, v_rel, shear, law, dt):
     n0, n1, n2 = normal
     vr0, vr1, vr2 = v_rel
     s0, s1, s2 = shear
-    k_n, k_t, mu, beta = law
+    k_n, k_t, mu, beta, touch = law
     vn = vr0 * n0 + vr1 * n1 + vr2 * n2
     # penetration rate is -vn (a's point moving against n goes deeper into b)
     sigma = k_n * (depth - beta * vn)
@@ -129,7 +138,9 @@ def traction_one(depth, normal, v_rel, shear, law, dt):
         s0 += (vr0 - vn * n0) * dt
         s1 += (vr1 - vn * n1) * dt
         s2 += (vr2 - vn * n2) * dt
-        cap = mu * sigma
+        cap = mu * (sigma - k_n * touch)
+        if cap < 0.0:
+            cap = 0.0
         trial2 = k_t * k_t * (s0 * s0 + s1 * s1 + s2 * s2)
         if trial2 > cap * cap:
             scale = cap / math.sqrt(trial2)
@@ -328,7 +339,7 @@ def _run_frame(q, pairs, rot, drift, bodies, law):
     """Data of pair ``q`` shared by its entries: blocks ``a``, ``b``; its face rows
     ``(begin, end)``; ``drift[a] + drift[b]`` [m]; ``a``'s rotation (rows); ``(v, w)``, the
     pair's relative velocity [m/s] and angular velocity [rad/s] (:func:`pair_frames`); the
-    law's scalars ``(k_n, k_t, mu, beta)`` with the pair's friction coefficient."""
+    law's scalars ``(k_n, k_t, mu, beta, touch)`` with the pair's friction coefficient."""
     a, b = pairs.a[q], pairs.b[q]
     rot_a = (
         (rot[a, 0, 0], rot[a, 0, 1], rot[a, 0, 2]),
@@ -339,7 +350,8 @@ def _run_frame(q, pairs, rot, drift, bodies, law):
     w = (pairs.omega[q, 0], pairs.omega[q, 1], pairs.omega[q, 2])
     mu = pair_mu(bodies.block_mu[a], bodies.block_mu[b], law.mu_rule)
     faces = (pairs.face_ptr[q], pairs.face_ptr[q + 1])
-    return a, b, faces, drift[a] + drift[b], rot_a, (v, w), (law.k_n, law.k_t, mu, law.beta)
+    law_q = (law.k_n, law.k_t, mu, law.beta, law.touch)
+    return a, b, faces, drift[a] + drift[b], rot_a, (v, w), law_q
 
 
 @njit(cache=True, inline="always")
@@ -358,7 +370,7 @@ def _node_force(depth, n, r, vw, shear, law_q, dt, area):
 
     ``depth`` [m], normal ``n`` and ``shear`` [m] as :func:`traction_one`; ``r`` the node
     relative to ``c_a`` [m]; ``vw = (v, w)`` the pair's relative velocity [m/s] and angular
-    velocity [rad/s]; ``law_q = (k_n, k_t, mu, beta)``; ``area`` the node's weighted area
+    velocity [rad/s]; ``law_q = (k_n, k_t, mu, beta, touch)``; ``area`` the node's weighted area
     [m^2]."""
     v, w = vw
     # relative velocity of a's material point against b's material point at x
