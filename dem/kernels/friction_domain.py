@@ -374,6 +374,9 @@ def project(sigma_t, C, regions, counts, beta, band, out_s, out_A, out_B, out_G)
     -------
     plastic : bool
     """
+    if sigma_t[0] == 0.0 and sigma_t[1] == 0.0 and sigma_t[2] == 0.0:
+        out_s[:] = sigma_t  # the origin: inside whenever the joint has a capacity
+        return False
     acc = np.empty(N_ACC)
     d, psi = _max_direction(sigma_t, C, regions, counts, beta, band, acc)
     if psi <= -band * acc[0]:
