@@ -69,12 +69,6 @@ from dem.units import G
 
 logger = logging.getLogger(__name__)
 
-# The parallel node loop opens one OpenMP region per time step. Worker threads that spin
-# between regions (libgomp's default) starve on a shared machine: with 2 cores and 5 busy
-# processes a step took 3.2 times the serial one, with sleeping workers 1.05 times
-# (benchmarks/bench_explicit.py). An explicit setting of the user wins.
-os.environ.setdefault("OMP_WAIT_POLICY", "passive")
-
 
 class ExplicitModel:
     """A scene prepared for explicit dynamics: nodes, flat arrays, time step and state.
