@@ -53,12 +53,10 @@ Level sets are not a distance bound: no skipping there.
 
 The helpers of the entry loop take and return scalars and tuples of scalars, inlined
 (``inline="always"``; :func:`_run_frame`, once per run of entries, reads arrays); the plane
-choice and the writes into the entry arrays stay in
-:func:`contact_entries`: a helper taking the face arrays there, inlined or not, brought back
-numba's reference counting and made the loop two to three times slower (numba 0.68,
-``benchmarks/bench_explicit.py``), and the loop over one run's entries as a function of its
-own cost about 0.5 us per run (serial step at 0.5 mm node spacing 12.5 -> 16.7 ns/node), so
-:func:`contact_entries` is longer than a screen.
+choice and the writes into the entry arrays stay in :func:`contact_entries`: numba
+reference-counts the arrays passed to a helper in the loop, inlined or not, and the loop over
+one run's entries as a function of its own adds a call per run, so :func:`contact_entries`
+is longer than a screen (the costs are measured with ``benchmarks/bench_explicit.py``).
 """
 
 import math
@@ -216,39 +214,19 @@ def pair_frames(motion, rot, bodies, shapes, pairs):
 
 @njit(cache=True)
 def contact_entries(e_begin, e_end, model, state, dt, scratch, pairs, record, sums):
-    """Forces of entries ``e_begin:e_end``: updates their shear and adds their wrenches to the
-    sums of their pairs.
+    """Forces of entries ``e_begin:e_end`` [N]: updates their shear history ``contacts.shear``
+    (m, 3) [m] and adds, in entry order, their forces on ``a`` [N] and moments about ``c_a``
+    [N m] to ``sums`` (p, 6), per pair (:func:`pair_wrenches` makes block wrenches of them).
 
-    Parameters
-    ----------
-    e_begin, e_end : int
-        Range of entries.
-    model : (Nodes, Bodies, Shapes, Law)
-        The model's constants (:mod:`dem.explicit.state`): surface nodes (``r0`` [m], ``n0``,
-        ``area`` [m^2]), ``block_mu`` (the pair's coefficient by ``law.mu_rule``), level-set
-        grids (``use_level_set``; the face planes come through ``pairs``) and the law
-        (``k_n``, ``k_t`` [Pa/m], ``beta`` [s], ``margin`` [m], ``compat_cos``: the plane
-        choice, see the module docstring).
-    state : (Contacts, Motion)
-        The entries (``node``, ``weight``) with their shear history ``shear`` (m, 3) [m],
-        updated in place, and the block poses (``pos`` [m], for the recorded points).
-    dt : float
-        Time step [s].
-    scratch : Scratch
-        ``rot`` (n, 3, 3) rotations of the current poses (input); ``out_depth`` (m,):
-        penetration ``d`` [m] (negative: separation, lower bound); ``skip_gap``,
-        ``skip_drift`` (m,) and ``drift`` (n,) [m]: skipping of separated entries (module
-        docstring).
-    pairs : PairFrames
-        The entries' block pairs with the frames of :func:`pair_frames`; the entries are
-        handled run by run (``run_ptr``), a range may start and end inside a run.
-    record : bool
-        Also write ``scratch.out_force`` (m, 3) (force on the node's block [N]) and
-        ``scratch.out_point`` (m, 3) (the node [m]) of every evaluated entry.
-    sums : (p, 6) float64
-        Accumulated in place, in entry order: per pair, the forces of its entries on ``a``
-        [N] and their moments about ``c_a`` [N m] (:func:`pair_wrenches` turns them into
-        block wrenches).
+    ``model = (nodes, bodies, shapes, law)`` and ``state = (contacts, motion)`` as in
+    :mod:`dem.explicit.state`; ``dt`` [s]; ``pairs`` the entries' block pairs with the frames
+    of :func:`pair_frames`, handled run by run (``run_ptr``; a range may start and end inside
+    a run). ``scratch``: ``rot`` (n, 3, 3) the current rotations (input); written:
+    ``out_depth`` (m,) the penetration [m] (negative: separation, a lower bound), and the
+    skipping of separated entries (``skip_gap``, ``skip_drift`` (m,), ``drift`` (n,) [m],
+    module docstring); with ``record`` also ``out_force`` (m, 3), the force on the node's
+    block [N], and ``out_point`` (m, 3), the node [m], of every evaluated entry. The plane
+    choice stays in this function (module docstring).
     """
     nodes, bodies, shapes, law = model
     contacts, motion = state
