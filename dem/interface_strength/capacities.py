@@ -288,12 +288,7 @@ def torsion_section(
     pos = interface.positions
     size = float(np.max(np.ptp(pos, axis=0))) + float(np.sqrt(interface.area))
     eps = 1e-9 * size
-    # initial guess: a twist centre on the normal to the shear, further out for larger shear
-    shat = s / f_u
-    with np.errstate(divide="ignore", invalid="ignore"):
-        e = np.where(s[:, None] > 0, f_target / np.where(s > 0, s, 1.0)[:, None], 0.0)
-    dist = size * shat / (1.0 - shat)
-    v = e * dist[:, None] + interface.centroid[None, ::-1] * np.array([1.0, -1.0])
+    v = _initial_points(interface, f_target, s, f_u, size)
     m = f_target.shape[0]
     dual = partial(_dual_terms, pos, caps, eps)
     gnorm = _minimise_dual(dual, v, f_target, tol * f_u, max_iter)
@@ -307,6 +302,17 @@ def torsion_section(
     _, f1, f2, m3, *_ = _support(pos, caps, w, eps)
     centres = np.column_stack([-v[:, 1], v[:, 0]])
     return m3, centres, np.column_stack([f1, f2])
+
+
+def _initial_points(interface, f_target, s, f_u, size) -> np.ndarray:
+    """Newton's start ``v`` (m, 2) for the shears ``f_target`` (m, 2) [N] of magnitude ``s``:
+    a twist centre on the normal to the shear through the centroid, further out [m] (relative
+    to the interface ``size``) the nearer the shear is to the strength ``f_u``."""
+    shat = s / f_u
+    with np.errstate(divide="ignore", invalid="ignore"):
+        e = np.where(s[:, None] > 0, f_target / np.where(s > 0, s, 1.0)[:, None], 0.0)
+    dist = size * shat / (1.0 - shat)
+    return e * dist[:, None] + interface.centroid[None, ::-1] * np.array([1.0, -1.0])
 
 
 def _dual_terms(
