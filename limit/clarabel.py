@@ -187,11 +187,23 @@ def run_clarabel(
 ) -> tuple[str, float]:
     """One Clarabel solve; return cvxpy's status (``"solver_error"`` when Clarabel raised)
     and the solver time [s]. cvxpy's own warning on an inaccurate status is silenced: the
-    status is returned, and :func:`solve_static` retries, refuses or warns once itself."""
+    status is returned, and :func:`solve_static` retries, refuses or warns once itself.
+
+    Every solve starts a new Clarabel solver (``warm_start=False``). cvxpy's default would
+    hand a re-solved problem (new parameter values, or the next attempt) to the solver of the
+    previous solve through Clarabel's data update, which keeps the Ruiz equilibration
+    computed for the first data; with capacities that changed by orders of magnitude (the
+    fixed-capacity iteration) that scaling no longer fits and Clarabel can fail where a new
+    solver on the same data converges. A re-solve is thus the same as a fresh solve."""
     try:
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message="Solution may be inaccurate")
-            problem.solve(solver=cp.CLARABEL, ignore_dpp=True, **attempt.options(settings))
+            problem.solve(
+                solver=cp.CLARABEL,
+                ignore_dpp=True,
+                warm_start=False,
+                **attempt.options(settings),
+            )
     except cp.error.SolverError as exc:
         logger.info("Clarabel failed (%s attempt): %s", attempt.label, exc)
         return "solver_error", 0.0
