@@ -69,11 +69,6 @@ from dem.units import G
 
 logger = logging.getLogger(__name__)
 
-# The parallel node loop opens one OpenMP region per time step. Worker threads that spin
-# between regions (libgomp's default) starve on a shared machine, sleeping ones do not
-# (benchmarks/bench_explicit.py). An explicit setting of the user wins.
-os.environ.setdefault("OMP_WAIT_POLICY", "passive")
-
 
 class ExplicitModel:
     """A scene prepared for explicit dynamics: nodes, flat arrays, time step and state.
