@@ -22,10 +22,13 @@ Prints
    ``--collapse-max`` blocks; times per block in microseconds;
 4. ``--in-plane [SIZES]``: in-plane running-bond walls of about 1,000, 3,000 and 10,000
    blocks (Restrepo-Velez blocks on a fixed foundation, mu 0.7, live load = each block's
-   weight along +x), each run to collapse with the static DEM and solved by the limit
-   analysis (resultant model) in a fresh subprocess: wall time, lambda, steps, iterations and
-   the subprocess's peak resident memory; the growth exponent of the static time between
-   consecutive sizes.
+   weight along +x), each run to collapse (or ``--in-plane-steps`` steps) with the static DEM
+   (resultant law) and solved by the associated limit analysis (resultant model, an upper
+   bound) in fresh subprocesses: blocks, dofs, wall time, steps, iterations and the failed
+   share, the time per iteration split into law, assembly, factorisation, solves and the rest
+   (cProfile), lambda with its bar by both methods and whether the DEM's lies below the upper
+   bound within the two bars, the subprocess's peak resident memory, and the growth exponents
+   of the time per iteration (against dofs) and of the total time (against blocks).
 
 Times are wall-clock on a shared machine: compare ratios within one run.
 """
@@ -33,17 +36,20 @@ Times are wall-clock on a shared machine: compare ratios within one run.
 from __future__ import annotations
 
 import argparse
+import cProfile
 import dataclasses
 import json
 import logging
 import math
 import os
+import pstats
 import resource
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+from dem.estimate import format_estimate
 from dem.scene import Scene, proportional_to_weight
 from dem.scenes.running_bond_wall import running_bond_wall
 from dem.scenes.seed001_walls import (
@@ -58,14 +64,16 @@ from dem.static import StaticSettings, StaticSolverError, solve_collapse
 from dem.static.dead_load import solve_dead_load
 from dem.static.model import Model
 from dem.static.newton import Corrector, factor
+from limit.problems import LimitSettings
+from limit.solve import limit_analysis
 
 TARGET_S = 10.0
 LAWS = ("resultant", "fibre")
 VARIANTS = ("fixed_column", "blocks")
-IN_PLANE_SIZES = {1000: (24, 40), 3000: (50, 60), 10000: (70, 140)}
+IN_PLANE_SIZES = {100: (8, 12), 1000: (24, 40), 3000: (50, 60), 10000: (70, 140)}
 """Blocks (about) -> (blocks per even course, courses) of the in-plane walls: 981, 3,031 and
 9,871 blocks with the foundation."""
-IN_PLANE_TARGET_S = {1000: None, 3000: 15.0, 10000: 60.0}
+IN_PLANE_TARGET_S = {100: None, 1000: None, 3000: 15.0, 10000: 60.0}
 
 
 def run_wall(name: str, model: str, variant: str) -> dict:
@@ -265,62 +273,154 @@ def in_plane_wall(n_per_course: int, n_courses: int) -> Scene:
     return dataclasses.replace(scene, loads=loads, name=f"in_plane_{n_per_course}x{n_courses}")
 
 
-def run_in_plane(size: int, method: str) -> dict:
-    """One in-plane wall by ``method`` ("static": the resultant law to collapse; "limit": the
-    static limit analysis, resultant model), timed from the built scene; with this process's
-    peak resident memory [MiB]."""
+PROFILED = {
+    "law": ("dem/static/model.py", "evaluate"),
+    "assembly": ("dem/static/model.py", "stiffness"),
+    "factorisation": ("dem/static/newton.py", "factor"),
+    "solves": ("~", "<method 'solve' of 'SuperLU' objects>"),
+}
+"""Parts of a Newton iteration -> (file, function) whose cumulative time cProfile gives: the
+interface law with ``H U`` and ``H^T f`` (every trial of the line search), the assembly of
+``K`` or the bordered matrix, the sparse LU, and the triangular solves (GMRES's included)."""
+
+
+def _profiled_parts(stats: pstats.Stats) -> dict[str, float]:
+    """Cumulative seconds of each part of :data:`PROFILED` in ``stats``."""
+    out = dict.fromkeys(PROFILED, 0.0)
+    for (path, _, func), (_, _, _, cumulative, _) in stats.stats.items():
+        for part, (suffix, name) in PROFILED.items():
+            if func == name and path.endswith(suffix):
+                out[part] += cumulative
+    return out
+
+
+def _warm_up(method: str) -> None:
+    """One tiny in-plane wall by ``method``: numba's cached kernels and the solvers'
+    imports are loaded before the timed run."""
+    scene = in_plane_wall(4, 4)
+    if method == "static":
+        solve_collapse(scene, StaticSettings(max_steps=2, on_failure="return"))
+    else:
+        limit_analysis(scene, LimitSettings(interface_model="resultant"))
+
+
+def _static_row(scene: Scene, max_steps: int | None) -> dict:
+    """The resultant law to collapse (or ``max_steps``) under cProfile: the result and the
+    seconds of each part of :data:`PROFILED`."""
+    extra = {} if max_steps is None else {"max_steps": max_steps}
+    settings = StaticSettings(interface_model="resultant", on_failure="return", **extra)
+    profile = cProfile.Profile()
+    profile.enable()
+    res = solve_collapse(scene, settings)
+    profile.disable()
+    return {
+        "lam": res.lambda_max,
+        "lam_error": res.lambda_estimate.error,
+        "collapsed": res.collapsed,
+        "termination": res.termination,
+        "steps": res.n_steps,
+        "iterations": res.n_iterations,
+        "failed_iterations": res.n_failed_iterations,
+        "parts_s": _profiled_parts(pstats.Stats(profile)),
+    }
+
+
+def run_in_plane(size: int, method: str, max_steps: int | None = None) -> dict:
+    """One in-plane wall by ``method`` ("static": the resultant law to collapse or
+    ``max_steps``; "limit": the associated limit analysis, resultant model, an upper bound),
+    timed after a warm-up from the built scene; with this process's peak resident memory
+    before and after [MiB]."""
     scene = in_plane_wall(*IN_PLANE_SIZES[size])
     scene.assembly.interfaces()
-    row = {"size": size, "blocks": scene.n_blocks, "method": method}
+    _warm_up(method)
+    row = {
+        "size": size,
+        "blocks": scene.n_blocks,
+        "dofs": int(scene.supports.free_dofs.sum()),
+        "method": method,
+        "base_mib": _peak_mib(),
+    }
     start = time.perf_counter()
     if method == "static":
-        settings = StaticSettings(interface_model="resultant", on_failure="return")
-        res = solve_collapse(scene, settings)
-        row |= {
-            "lam": res.lambda_max,
-            "termination": res.termination,
-            "steps": res.n_steps,
-            "iterations": res.n_iterations,
-            "failed_iterations": res.n_failed_iterations,
-        }
+        row |= _static_row(scene, max_steps)
     else:
-        from limit.problems import LimitSettings, build_static_problem
-        from limit.solve import solve_static
-
-        res = solve_static(build_static_problem(scene, LimitSettings(interface_model="resultant")))
-        row |= {"lam": res.lam, "termination": res.status}
+        res = limit_analysis(scene, LimitSettings(interface_model="resultant"))
+        est = res.lambda_estimate
+        row |= {"lam": res.lam, "lam_error": est.error, "termination": res.status}
     row["wall_s"] = time.perf_counter() - start
-    row["peak_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    row["peak_mib"] = _peak_mib()
     return row
 
 
-def in_plane(sizes) -> None:
+def _peak_mib() -> float:
+    """Peak resident memory of this process so far [MiB] (Linux reports KiB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def _subprocess_row(size: int, method: str, max_steps: int | None) -> dict:
+    cmd = [sys.executable, __file__, "--in-plane-one", f"{size}:{method}:{max_steps or 0}"]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def _static_line(st: dict) -> str:
+    """Blocks, dofs, the path's work and the time of one iteration split into its parts."""
+    n_it = max(st["iterations"], 1)
+    parts = st["parts_s"]
+    other = st["wall_s"] - sum(parts.values())
+    split = " ".join(f"{k} {1e3 * v / n_it:.1f}" for k, v in (parts | {"other": other}).items())
+    target = IN_PLANE_TARGET_S[st["size"]]
+    verdict = "" if target is None else (" OK" if st["wall_s"] <= target else " over target")
+    return (
+        f"{st['blocks']:6d} blocks {st['dofs']:6d} dofs | static {st['wall_s']:7.1f} s{verdict}"
+        f" lambda {format_estimate(st['lam'], st['lam_error'])} {st['termination']} steps "
+        f"{st['steps']} iterations {st['iterations']} (failed {st['failed_iterations']}, "
+        f"{st['failed_iterations'] / n_it:.0%}) {1e3 * st['wall_s'] / n_it:.1f} ms/iteration "
+        f"[ms: {split}] peak {st['peak_mib']:.0f} MiB (before {st['base_mib']:.0f})"
+    )
+
+
+def _limit_line(st: dict, li: dict) -> str:
+    """The limit analysis and whether the static DEM lies below its upper bound within the
+    two bars."""
+    holds = st["lam"] - st["lam_error"] <= li["lam"] + li["lam_error"]
+    return (
+        f"{'':20s}| limit  {li['wall_s']:7.1f} s lambda "
+        f"{format_estimate(li['lam'], li['lam_error'])} (upper bound) {li['termination']} "
+        f"peak {li['peak_mib']:.0f} MiB | DEM <= upper bound: "
+        f"{'holds' if holds else 'VIOLATED'} (DEM/limit {st['lam'] / li['lam']:.4f})"
+    )
+
+
+def _growth(st: dict, last: dict | None) -> str:
+    """Exponents of the time per iteration and of the total time against the size."""
+    if last is None:
+        return ""
+    per = [r["wall_s"] / max(r["iterations"], 1) for r in (last, st)]
+    k_it = math.log(per[1] / per[0]) / math.log(st["dofs"] / last["dofs"])
+    k_all = math.log(st["wall_s"] / last["wall_s"]) / math.log(st["blocks"] / last["blocks"])
+    return (
+        f"{'':20s}| since {last['blocks']} blocks: time per iteration ~ n^{k_it:.2f}, "
+        f"total time ~ n^{k_all:.2f}"
+    )
+
+
+def in_plane(sizes, max_steps: int | None = None) -> None:
     """Every in-plane wall of ``sizes`` with both methods, each in a fresh subprocess (so its
-    peak memory is its own)."""
+    peak memory is its own); the static path to collapse, or ``max_steps`` steps (which
+    measures the cost per iteration of the larger walls in a bounded time)."""
     print("== in-plane running-bond walls, live load = weight along +x ==")
-    print(f"load average at start: {' '.join(f'{x:.1f}' for x in _load())}")
+    cap = "to collapse" if max_steps is None else f"at most {max_steps} steps"
+    print(f"static DEM (resultant law) {cap}, under cProfile; load average at start: "
+          f"{' '.join(f'{x:.1f}' for x in _load())}")  # fmt: skip
     last = None
     for size in sizes:
-        rows = {}
-        for method in ("static", "limit"):
-            cmd = [sys.executable, __file__, "--in-plane-one", f"{size}:{method}"]
-            out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
-            rows[method] = json.loads(out.strip().splitlines()[-1])
-        st, li = rows["static"], rows["limit"]
-        growth = ""
-        if last is not None:
-            k = math.log(st["wall_s"] / last["wall_s"]) / math.log(st["blocks"] / last["blocks"])
-            growth = f"  static time ~ n^{k:.2f} since {last['blocks']}"
-        target = IN_PLANE_TARGET_S[size]
-        verdict = "" if target is None else ("  OK" if st["wall_s"] <= target else "  over target")
-        print(
-            f"{st['blocks']:6d} blocks  static {st['wall_s']:7.1f} s lambda {st['lam']:.4f} "
-            f"{st['termination']} steps {st['steps']} iterations {st['iterations']} (failed "
-            f"{st['failed_iterations']}) peak {st['peak_mib']:.0f} MiB | limit "
-            f"{li['wall_s']:6.1f} s lambda {li['lam']:.4f} peak {li['peak_mib']:.0f} MiB"
-            f"{verdict}{growth}  (load {_load()[0]:.1f})",
-            flush=True,
-        )
+        st = _subprocess_row(size, "static", max_steps)
+        li = _subprocess_row(size, "limit", None)
+        for line in (_static_line(st), _limit_line(st, li), _growth(st, last)):
+            if line:
+                print(line, flush=True)
+        print(f"{'':20s}| load average {_load()[0]:.1f}", flush=True)
         last = st
 
 
@@ -348,14 +448,17 @@ def main(argv=None) -> None:
         const="1000,3000,10000",
         help="in-plane walls of about these many blocks (1000, 3000, 10000)",
     )
-    parser.add_argument("--in-plane-one", help=argparse.SUPPRESS)  # SIZE:METHOD, subprocess
+    parser.add_argument(
+        "--in-plane-steps", type=int, help="--in-plane: stop each static path after so many steps"
+    )
+    parser.add_argument("--in-plane-one", help=argparse.SUPPRESS)  # SIZE:METHOD:STEPS
     args = parser.parse_args(argv)
     if args.in_plane_one:
-        size, method = args.in_plane_one.split(":")
-        print(json.dumps(run_in_plane(int(size), method)))
+        size, method, steps = args.in_plane_one.split(":")
+        print(json.dumps(run_in_plane(int(size), method, int(steps) or None)))
         return
     if args.in_plane:
-        in_plane([int(x) for x in args.in_plane.split(",")])
+        in_plane([int(x) for x in args.in_plane.split(",")], args.in_plane_steps)
         return
     names = args.walls.split(",")
     if args.table2:

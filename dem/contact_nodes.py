@@ -159,28 +159,59 @@ def seed_face(
     """
     if not spacing > 0 or not math.isfinite(spacing):
         raise ValueError(f"node spacing must be positive and finite, got {spacing}")
-    u, v, origin, poly2, start, (n_u, n_v) = _face_grid(polygon, normal, spacing)
-    lo, hi = poly2.min(axis=0), poly2.max(axis=0)
-    first, stop = np.zeros(2, dtype=np.int64), np.array([n_u, n_v], dtype=np.int64)
+    if layout not in ("centroid", "vertex"):
+        raise ValueError(f"layout must be 'vertex' or 'centroid', got {layout!r}")
+    u, v, origin, poly2, start, counts = _face_grid(polygon, normal, spacing)
+    first, stop = _cell_range(counts, start, spacing, window, (origin, u, v))
+    n_cells = int(np.prod(np.maximum(stop - first, 0)))
+    if n_cells > MAX_GRID_CELLS:
+        extent = np.ptp(poly2, axis=0)
+        raise ValueError(
+            f"node spacing {spacing:.3g} m gives {n_cells:.3g} grid cells on a face of "
+            f"{extent[0]:.3g} m x {extent[1]:.3g} m (at most {MAX_GRID_CELLS:.0e}): "
+            "raise the node spacing"
+        )
+    if n_cells == 0:
+        return np.zeros((0, 3)), np.zeros(0)
+    corners = _cell_corners(first, stop, start, spacing)
+    inside = _boxes_inside(corners, poly2, spacing)
+    pieces = _edge_pieces(corners[~inside], poly2, spacing)
+    if layout == "centroid":
+        c0, c1 = corners[inside, 0, 0], corners[inside, 0, 1]
+        full = np.column_stack([c0 + 0.5 * spacing, c1 + 0.5 * spacing])
+        p2 = np.concatenate([full] + [centroid[None, :] for _, _, centroid in pieces])
+        areas = np.concatenate([np.full(int(inside.sum()), spacing * spacing)]
+                               + [np.array([area]) for _, area, _ in pieces])  # fmt: skip
+    else:
+        cells = [corners[k] for k in np.flatnonzero(inside)] + [piece for piece, _, _ in pieces]
+        if not cells:  # a window that misses the face
+            return np.zeros((0, 3)), np.zeros(0)
+        p2, areas = _vertex_nodes(cells, start, spacing)
+    return origin + p2[:, :1] * u + p2[:, 1:] * v, areas
+
+
+def _cell_range(counts, start, spacing: float, window, frame) -> tuple[np.ndarray, np.ndarray]:
+    """First and stop cell indices (2,) of the face's grid (``counts`` cells along each axis,
+    from ``start`` (2,) [m]) to seed: all of them, or those meeting ``window`` (see
+    :func:`seed_face`) in the face's ``frame = (origin, u, v)``."""
+    first, stop = np.zeros(2, dtype=np.int64), np.array(counts, dtype=np.int64)
     if window is not None:
+        origin, u, v = frame
         centre, half = window
         c2 = np.array([(centre - origin) @ u, (centre - origin) @ v])
         # cells meeting the square, plus one on each side against round-off
         first = np.maximum(first, np.floor((c2 - half - start) / spacing).astype(np.int64) - 1)
         stop = np.minimum(stop, np.ceil((c2 + half - start) / spacing).astype(np.int64) + 1)
-    n_cells = int(np.prod(np.maximum(stop - first, 0)))
-    if n_cells > MAX_GRID_CELLS:
-        raise ValueError(
-            f"node spacing {spacing:.3g} m gives {n_cells:.3g} grid cells on a face of "
-            f"{hi[0] - lo[0]:.3g} m x {hi[1] - lo[1]:.3g} m (at most {MAX_GRID_CELLS:.0e}): "
-            "raise the node spacing"
-        )
-    if n_cells == 0:
-        return np.zeros((0, 3)), np.zeros(0)
+    return first, stop
+
+
+def _cell_corners(first: np.ndarray, stop: np.ndarray, start: np.ndarray, spacing: float):
+    """(cells, 4, 2) corners [m], counter-clockwise, of the grid cells ``first:stop`` (2,) of
+    the grid from ``start`` (2,) [m], row-major in the cell indices."""
     iu, iv = np.meshgrid(np.arange(first[0], stop[0]), np.arange(first[1], stop[1]), indexing="ij")
     c0 = start[0] + iu.ravel() * spacing
     c1 = start[1] + iv.ravel() * spacing
-    corners = np.stack(
+    return np.stack(
         [
             np.column_stack([c0, c1]),
             np.column_stack([c0 + spacing, c1]),
@@ -188,39 +219,41 @@ def seed_face(
             np.column_stack([c0, c1 + spacing]),
         ],
         axis=1,
-    )  # (cells, 4, 2), counter-clockwise
+    )
+
+
+def _boxes_inside(corners: np.ndarray, poly2: np.ndarray, spacing: float) -> np.ndarray:
+    """(m,) bool: the boxes ``corners`` (m, 4, 2) lie inside the convex CCW polygon ``poly2``
+    (k, 2), to a tolerance of 1e-12 of ``spacing`` times each edge's length."""
     edge = np.roll(poly2, -1, axis=0) - poly2
     scale = spacing * np.linalg.norm(edge, axis=1)
     # inside of every edge of the CCW polygon: cross(edge, p - start) >= 0 (one edge at a
-    # time: scratch of (cells, 4), not (cells, 4, edges))
-    inside_all = np.ones(len(c0), dtype=bool)
+    # time: scratch of (m, 4), not (m, 4, edges))
+    inside = np.ones(len(corners), dtype=bool)
     for k in range(len(poly2)):
         rel = corners - poly2[k]
         side = edge[k, 0] * rel[..., 1] - edge[k, 1] * rel[..., 0]
-        inside_all &= np.all(side >= -1e-12 * scale[k], axis=1)
-    cells: list[np.ndarray] = [corners[k] for k in np.flatnonzero(inside_all)]
-    if layout == "centroid":
-        pts2 = [np.column_stack([c0[inside_all] + 0.5 * spacing, c1[inside_all] + 0.5 * spacing])]
-        areas = [np.full(int(inside_all.sum()), spacing * spacing)]
-    for k in np.flatnonzero(~inside_all):
-        piece = clip_convex_polygons(corners[k], poly2)
+        inside &= np.all(side >= -1e-12 * scale[k], axis=1)
+    return inside
+
+
+def _edge_pieces(corners: np.ndarray, poly2: np.ndarray, spacing: float) -> list[tuple]:
+    """``(piece (j, 2), area, centroid (2,))`` of each cell ``corners`` (m, 4, 2) clipped to
+    the polygon, in order, leaving out pieces of zero area (below 1e-12 of a cell)."""
+    pieces = []
+    for cell in corners:
+        piece = clip_convex_polygons(cell, poly2)
         if len(piece) < 3:
             continue
         area, centroid, _ = polygon_properties(piece)
         if area > 1e-12 * spacing * spacing:
-            if layout == "centroid":
-                pts2.append(centroid[None, :])
-                areas.append(np.array([area]))
-            else:
-                cells.append(piece)
-    if layout == "centroid":
-        p2 = np.concatenate(pts2)
-        points = origin + p2[:, :1] * u + p2[:, 1:] * v
-        return points, np.concatenate(areas)
-    if layout != "vertex":
-        raise ValueError(f"layout must be 'vertex' or 'centroid', got {layout!r}")
-    if not cells:  # a window that misses the face
-        return np.zeros((0, 3)), np.zeros(0)
+            pieces.append((piece, area, centroid))
+    return pieces
+
+
+def _vertex_nodes(cells: list, start: np.ndarray, spacing: float) -> tuple:
+    """Nodes at the corners of ``cells`` (clipped cells (j, 2)), each corner taking an equal
+    share of every cell's area it belongs to: points (m, 2) [m] and areas (m,) [m^2]."""
     corner_pts = np.concatenate(cells)
     shares = np.concatenate([np.full(len(c), polygon_properties(c)[0] / len(c)) for c in cells])
     # merge coincident corners of neighbouring cells
@@ -229,9 +262,7 @@ def seed_face(
     inverse = inverse.ravel()
     area = np.zeros(len(first))
     np.add.at(area, inverse, shares)
-    p2 = corner_pts[first]
-    points = origin + p2[:, :1] * u + p2[:, 1:] * v
-    return points, area
+    return corner_pts[first], area
 
 
 def _face_grid(polygon: np.ndarray, normal: np.ndarray, spacing: float) -> tuple:
@@ -293,15 +324,9 @@ def node_patches(
     else:
         lo = start + spacing * np.floor((p2 - start) / spacing)
         hi = lo + spacing
-    edge = np.roll(poly2, -1, axis=0) - poly2
-    scale = spacing * np.linalg.norm(edge, axis=1)
     corners = np.stack([lo, np.column_stack([hi[:, 0], lo[:, 1]]), hi,
                         np.column_stack([lo[:, 0], hi[:, 1]])], axis=1)  # fmt: skip
-    inside = np.ones(len(p2), dtype=bool)
-    for k in range(len(poly2)):
-        rel = corners - poly2[k]
-        side = edge[k, 0] * rel[..., 1] - edge[k, 1] * rel[..., 0]
-        inside &= np.all(side >= -1e-12 * scale[k], axis=1)
+    inside = _boxes_inside(corners, poly2, spacing)
     for k in np.flatnonzero(~inside):
         piece = clip_convex_polygons(corners[k], poly2)
         if len(piece) >= 3:
@@ -418,7 +443,41 @@ def seed_contact_nodes(
         raise ValueError(f"fixed must have shape ({n_blocks},), got {fixed.shape}")
     if not margin > 0:
         raise ValueError(f"margin must be positive [m], got {margin}")
-    arrays = assembly.arrays
+    weight, seeded = _count_once(assembly, fixed, margin)
+    faces = _face_nodes(assembly, seeded, spacing, layout)
+    indenter: tuple = ([], [], [])
+    if indenter_axis_xy is not None:
+        axis = np.asarray(indenter_axis_xy, dtype=float)
+        h_ind = spacing if indenter_spacing is None else indenter_spacing
+        indenter = _indenter_nodes(assembly, fixed, axis, indenter_radius + margin, h_ind, layout)
+    ind_b, ind_p, ind_a = indenter
+    blocks_l, points_l, normals_l, areas_l, faces_l, patches_l = faces
+    return ContactNodes(
+        block=_cat(blocks_l, (0,), np.int64),
+        point=_cat(points_l, (0, 3)),
+        normal=_cat(normals_l, (0, 3)),
+        area=_cat(areas_l, (0,)),
+        face=_cat(faces_l, (0,), np.int64),
+        weight=weight,
+        patch_centre=_cat([p[0] for p in patches_l], (0, 3)),
+        patch_u=_cat([p[1] for p in patches_l], (0, 3)),
+        patch_v=_cat([p[2] for p in patches_l], (0, 3)),
+        indenter_block=_cat(ind_b, (0,), np.int64),
+        indenter_point=_cat(ind_p, (0, 3)),
+        indenter_area=_cat(ind_a, (0,)),
+        spacing=float(spacing),
+    )
+
+
+def _cat(parts: list, empty_shape: tuple, dtype=np.float64) -> np.ndarray:
+    """The parts concatenated, or an empty array of ``empty_shape`` when there are none."""
+    return np.concatenate(parts) if parts else np.zeros(empty_shape, dtype=dtype)
+
+
+def _count_once(assembly: Assembly, fixed: np.ndarray, margin: float):
+    """The counting weights (n_blocks, n_blocks) and the seeded ``(block, face)`` set: each
+    interface counted on one side (module docstring)."""
+    n_blocks = assembly.n_blocks
     weight = np.full((n_blocks, n_blocks), 0.5)
     np.fill_diagonal(weight, 0.0)
     weight[np.ix_(fixed, fixed)] = 0.0
@@ -443,6 +502,13 @@ def seed_contact_nodes(
         weight[owner, other] = 1.0
         weight[other, owner] = 0.0
         seeded.add((owner, face))
+    return weight, seeded
+
+
+def _face_nodes(assembly: Assembly, seeded: set, spacing: float, layout: str) -> tuple:
+    """Nodes of the seeded faces, in ``(block, face)`` order: lists of per-face arrays of
+    blocks, points, normals, areas, global faces and patches (:func:`node_patches`)."""
+    arrays = assembly.arrays
     blocks_l, points_l, normals_l, areas_l, faces_l, patches_l = [], [], [], [], [], []
     short = []  # (reach, block, face) of faces whose nodes fall short of their edges
     for owner, face in sorted(seeded):
@@ -460,47 +526,35 @@ def seed_contact_nodes(
         patches_l.append(node_patches(polygon, blk.normals[face], spacing, pts, layout))
     if short:
         _warn_short_reach(short, spacing, layout)
+    return blocks_l, points_l, normals_l, areas_l, faces_l, patches_l
+
+
+def _indenter_nodes(assembly: Assembly, fixed: np.ndarray, axis: np.ndarray, reach: float,
+                    h_ind: float, layout: str) -> tuple[list, list, list]:  # fmt: skip
+    """Nodes on the free blocks' upward faces within ``reach`` [m] (tip radius plus margin)
+    of the indenter's axis ``(x, y)`` in plan, at spacing ``h_ind`` [m]: lists of per-face
+    blocks, points and areas."""
     ind_b, ind_p, ind_a = [], [], []
-    if indenter_axis_xy is not None:
-        h_ind = spacing if indenter_spacing is None else indenter_spacing
-        axis = np.asarray(indenter_axis_xy, dtype=float)
-        reach = indenter_radius + margin
-        for i, blk in enumerate(assembly.blocks):
-            if fixed[i]:
+    for i, blk in enumerate(assembly.blocks):
+        if fixed[i]:
+            continue
+        for f, normal in enumerate(blk.normals):
+            if normal[2] < 0.5:
                 continue
-            for f, normal in enumerate(blk.normals):
-                if normal[2] < 0.5:
-                    continue
-                poly = blk.vertices[blk.faces[f]]
-                if _polygon_xy_distance(poly[:, :2], axis) > reach:
-                    continue
-                # a kept node lies within reach + h of the axis in plan, so within
-                # (reach + h) / n_z, in the face's plane, of the plane's point above the axis:
-                # seed only the cells about that point (memory as the nodes kept)
-                above = np.append(axis, poly[0, 2] + normal[:2] @ (poly[0, :2] - axis) / normal[2])
-                window = (above, (reach + h_ind) / normal[2])
-                pts, areas = seed_face(poly, normal, h_ind, layout, window)
-                keep = np.linalg.norm(pts[:, :2] - axis, axis=1) <= reach + h_ind
-                ind_b.append(np.full(int(keep.sum()), i, dtype=np.int64))
-                ind_p.append(pts[keep])
-                ind_a.append(areas[keep])
-    empty_i = np.zeros(0, dtype=np.int64)
-    cat = np.concatenate
-    return ContactNodes(
-        block=cat(blocks_l) if blocks_l else empty_i,
-        point=cat(points_l) if points_l else np.zeros((0, 3)),
-        normal=cat(normals_l) if normals_l else np.zeros((0, 3)),
-        area=cat(areas_l) if areas_l else np.zeros(0),
-        face=cat(faces_l) if faces_l else empty_i,
-        weight=weight,
-        patch_centre=cat([p[0] for p in patches_l]) if patches_l else np.zeros((0, 3)),
-        patch_u=cat([p[1] for p in patches_l]) if patches_l else np.zeros((0, 3)),
-        patch_v=cat([p[2] for p in patches_l]) if patches_l else np.zeros((0, 3)),
-        indenter_block=cat(ind_b) if ind_b else empty_i,
-        indenter_point=cat(ind_p) if ind_p else np.zeros((0, 3)),
-        indenter_area=cat(ind_a) if ind_a else np.zeros(0),
-        spacing=float(spacing),
-    )
+            poly = blk.vertices[blk.faces[f]]
+            if _polygon_xy_distance(poly[:, :2], axis) > reach:
+                continue
+            # a kept node lies within reach + h of the axis in plan, so within
+            # (reach + h) / n_z, in the face's plane, of the plane's point above the axis:
+            # seed only the cells about that point (memory as the nodes kept)
+            above = np.append(axis, poly[0, 2] + normal[:2] @ (poly[0, :2] - axis) / normal[2])
+            window = (above, (reach + h_ind) / normal[2])
+            pts, areas = seed_face(poly, normal, h_ind, layout, window)
+            keep = np.linalg.norm(pts[:, :2] - axis, axis=1) <= reach + h_ind
+            ind_b.append(np.full(int(keep.sum()), i, dtype=np.int64))
+            ind_p.append(pts[keep])
+            ind_a.append(areas[keep])
+    return ind_b, ind_p, ind_a
 
 
 def _warn_short_reach(short: list, spacing: float, layout: str) -> None:

@@ -133,65 +133,85 @@ def mesh_polyhedra(blocks: Sequence[ConvexBlock], settings: MeshSettings) -> Tet
     owns = not gmsh.isInitialized()
     if owns:
         gmsh.initialize(readConfigFiles=False, interruptible=False)
-    name = f"fem_check_{id(blocks)}"
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.option.setNumber("General.NumThreads", 1)
-        gmsh.option.setNumber("Mesh.MaxNumThreads3D", 1)
-        gmsh.option.setNumber("Mesh.Algorithm", 6)
-        gmsh.option.setNumber("Mesh.Algorithm3D", settings.algorithm_3d)
-        gmsh.option.setNumber("Mesh.Optimize", int(settings.optimize))
-        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", settings.size)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.ElementOrder", settings.order)
-        gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)  # planar faces: straight edges
-        gmsh.model.add(name)
-        labels = [f"block {i}" if len(blocks) > 1 else "the block" for i in range(len(blocks))]
-        volumes = [_occ_volume(gmsh, b, label) for b, label in zip(blocks, labels, strict=True)]
-        if len(volumes) > 1:
-            _, out_map = gmsh.model.occ.fragment([(3, v) for v in volumes], [])
-            pieces = [[tag for dim, tag in m if dim == 3] for m in out_map]
-        else:
-            pieces = [volumes]
+        _set_options(gmsh, settings)
+        gmsh.model.add(f"fem_check_{id(blocks)}")
+        pieces = _fragmented_volumes(gmsh, blocks)
         gmsh.model.occ.synchronize()
         gmsh.model.mesh.generate(3)
-        node_tags, coords, _ = gmsh.model.mesh.getNodes()
-        coords = coords.reshape(-1, 3)
-        index = np.full(int(node_tags.max()) + 1, -1, dtype=np.int64)
-        index[node_tags.astype(np.int64)] = np.arange(len(node_tags))
-        etype = GMSH_TET4 if settings.order == 1 else GMSH_TET10
-        n_nodes = 4 if settings.order == 1 else 10
-        cells, region = [], []
-        for i_block, tags in enumerate(pieces):
-            for tag in tags:
-                types, _, elem_nodes = gmsh.model.mesh.getElements(3, tag)
-                for t, en in zip(types, elem_nodes, strict=True):
-                    if t != etype:
-                        raise RuntimeError(f"gmsh returned element type {t}, expected {etype}")
-                    conn = index[np.asarray(en, dtype=np.int64)].reshape(-1, n_nodes)
-                    cells.append(conn)
-                    region.append(np.full(len(conn), i_block, dtype=np.int64))
+        coords, conn, region = _read_tets(gmsh, pieces, settings.order)
     finally:
         gmsh.model.remove()
         if owns:
             gmsh.finalize()
-    conn = np.concatenate(cells)
-    region_arr = np.concatenate(region)
+    mesh = _used_nodes_mesh(coords, conn, settings.order)
+    log.debug("meshed %d block(s): %d tets, h=%.3g m", len(blocks), mesh.t.shape[1], settings.size)
+    return TetMesh(mesh, region)
+
+
+def _set_options(gmsh, settings: MeshSettings) -> None:
+    """Quiet, one thread, fixed algorithms (the same input gives the same mesh), the size and
+    order of ``settings``."""
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("General.NumThreads", 1)
+    gmsh.option.setNumber("Mesh.MaxNumThreads3D", 1)
+    gmsh.option.setNumber("Mesh.Algorithm", 6)
+    gmsh.option.setNumber("Mesh.Algorithm3D", settings.algorithm_3d)
+    gmsh.option.setNumber("Mesh.Optimize", int(settings.optimize))
+    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", settings.size)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.option.setNumber("Mesh.ElementOrder", settings.order)
+    gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)  # planar faces: straight edges
+
+
+def _fragmented_volumes(gmsh, blocks: Sequence[ConvexBlock]) -> list[list[int]]:
+    """Build every block as an OpenCASCADE volume and fragment touching faces so that the
+    mesh conforms across them; returns the volume tags of each block's pieces."""
+    labels = [f"block {i}" if len(blocks) > 1 else "the block" for i in range(len(blocks))]
+    volumes = [_occ_volume(gmsh, b, label) for b, label in zip(blocks, labels, strict=True)]
+    if len(volumes) == 1:
+        return [volumes]
+    _, out_map = gmsh.model.occ.fragment([(3, v) for v in volumes], [])
+    return [[tag for dim, tag in m if dim == 3] for m in out_map]
+
+
+def _read_tets(gmsh, pieces: list[list[int]], order: int):
+    """The meshed nodes ``(n, 3)`` [m], tetrahedra ``(m, 4 or 10)`` (gmsh node order, rows of
+    the nodes) and the block of each tetrahedron ``(m,)``."""
+    node_tags, coords, _ = gmsh.model.mesh.getNodes()
+    coords = coords.reshape(-1, 3)
+    index = np.full(int(node_tags.max()) + 1, -1, dtype=np.int64)
+    index[node_tags.astype(np.int64)] = np.arange(len(node_tags))
+    etype = GMSH_TET4 if order == 1 else GMSH_TET10
+    n_nodes = 4 if order == 1 else 10
+    cells, region = [], []
+    for i_block, tags in enumerate(pieces):
+        for tag in tags:
+            types, _, elem_nodes = gmsh.model.mesh.getElements(3, tag)
+            for t, en in zip(types, elem_nodes, strict=True):
+                if t != etype:
+                    raise RuntimeError(f"gmsh returned element type {t}, expected {etype}")
+                conn = index[np.asarray(en, dtype=np.int64)].reshape(-1, n_nodes)
+                cells.append(conn)
+                region.append(np.full(len(conn), i_block, dtype=np.int64))
+    return coords, np.concatenate(cells), np.concatenate(region)
+
+
+def _used_nodes_mesh(coords: np.ndarray, conn: np.ndarray, order: int):
+    """The skfem mesh of the tetrahedra ``conn`` over only the nodes they use."""
     used = np.unique(conn)
     remap = np.full(len(coords), -1, dtype=np.int64)
     remap[used] = np.arange(len(used))
     conn = remap[conn]
     coords = coords[used]
-    if settings.order == 1:
+    if order == 1:
         m = meshio.Mesh(coords, [("tetra", conn)])
     else:
         m = meshio.Mesh(coords, [("tetra10", conn[:, _GMSH_TO_VTK_TET10])])
-    mesh = from_meshio(m)
-    log.debug("meshed %d block(s): %d tets, h=%.3g m", len(blocks), mesh.t.shape[1], settings.size)
-    return TetMesh(mesh, region_arr)
+    return from_meshio(m)
 
 
 def _occ_volume(gmsh, block: ConvexBlock, label: str) -> int:

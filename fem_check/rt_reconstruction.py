@@ -107,16 +107,24 @@ def _solve_group(P: np.ndarray, C: np.ndarray, t: np.ndarray) -> dict[str, np.nd
     t : ndarray, shape (g, m, 2)
         Traction on each facet [Pa].
     """
-    g, m, _ = P.shape
     Pn = np.roll(P, -1, axis=1)
     Cb = C[:, None, :]
     area = 0.5 * _cross(P - Cb, Pn - Cb)  # (g, m)
     if np.any(area <= 0.0):
         raise ValueError("every cell centre must lie strictly inside its cell")
     length = np.linalg.norm(Pn - P, axis=2)
+    flux_b = t * length[..., None]  # (g, m, 2 rows): outward boundary flux per row
+    F = _spoke_fluxes(P, Pn, Cb, area, flux_b)
+    return _rt0_fields(P, Pn, Cb, area, flux_b, F)
+
+
+def _spoke_fluxes(P, Pn, Cb, area, flux_b) -> np.ndarray:
+    """Solve the stacked saddle-point systems (least-squares divergence, weak symmetry on
+    every triangle) for the spoke fluxes ``F``, shape (g, m spokes, 2 rows) [N/m]; the
+    arguments as in :func:`_solve_group`, ``area`` (g, m) [m^2], ``flux_b`` (g, m, 2) [N/m]."""
+    g, m, _ = P.shape
     xT = (Cb + P + Pn) / 3.0
     a_b, a_s0, a_s1 = xT - Cb, xT - Pn, xT - P  # centroid minus the vertex opposite each edge
-    flux_b = t * length[..., None]  # (g, m, 2 rows): outward boundary flux per row
 
     # div on T_k, row i: (flux_b[k, i] - F_i[k] + F_i[k + 1]) / |T_k|
     G = -np.eye(m) + np.roll(np.eye(m), 1, axis=1)
@@ -141,8 +149,15 @@ def _solve_group(P: np.ndarray, C: np.ndarray, t: np.ndarray) -> dict[str, np.nd
     K[:, 2 * m :, : 2 * m] = B
     rhs = np.concatenate([-h[:, 0], -h[:, 1], -b0], axis=1)
     sol = np.linalg.solve(K, rhs[..., None])[..., 0]
-    F = np.stack([sol[:, :m], sol[:, m : 2 * m]], axis=2)  # (g, m spokes, 2 rows)
+    return np.stack([sol[:, :m], sol[:, m : 2 * m]], axis=2)
 
+
+def _rt0_fields(P, Pn, Cb, area, flux_b, F) -> dict[str, np.ndarray]:
+    """The RT0 stress of every triangle from its three outward fluxes (boundary ``flux_b``,
+    spokes ``F``) and the per-cell norms: the dict that :func:`_solve_group` returns."""
+    m = P.shape[1]
+    kp = (np.arange(m) + 1) % m
+    xT = (Cb + P + Pn) / 3.0
     # outward fluxes of T_k per row: boundary, spoke k (-F_k), spoke k+1 (+F_{k+1})
     phi_b, phi_s0, phi_s1 = flux_b, -F, F[:, kp]
     div = (phi_b + phi_s0 + phi_s1) / area[..., None]
@@ -207,6 +222,39 @@ def reconstruct_stress(
         Inconsistent shapes, non-finite data, or a centre outside its cell.
     """
     start = time.perf_counter()
+    cell_ptr, cell_xy, centres, facet_traction = _checked_inputs(
+        cell_ptr, cell_xy, centres, facet_traction
+    )
+    n_cells, n_facets = len(cell_ptr) - 1, int(cell_ptr[-1])
+    sizes = np.diff(cell_ptr)
+    out = _solve_by_size(cell_ptr, cell_xy, centres, facet_traction)
+    area, mean = out["area"], out["mean"]
+    tri_cell = np.repeat(np.arange(n_cells), sizes)
+    cell_area = np.bincount(tri_cell, weights=area, minlength=n_cells)
+    cell_stress = np.zeros((n_cells, 2, 2))
+    np.add.at(cell_stress, tri_cell, mean * area[:, None, None])
+    cell_stress /= cell_area[:, None, None]
+    wall = time.perf_counter() - start
+    logger.info("RT0 reconstruction: %d cells, %d triangles, %.3f s", n_cells, n_facets, wall)
+    return RTReconstruction(
+        tri_xy=out["tri"],
+        tri_cell=tri_cell,
+        tri_area=area,
+        sigma_mean=mean,
+        sigma_vertex=out["vertex"],
+        div=out["div"],
+        cell_stress=cell_stress,
+        div_norm=np.sqrt(out["div_l2"]),
+        skew_norm=np.sqrt(out["skew_l2"]),
+        weak_symmetry_residual=out["weak"],
+        traction_moment=out["moment"],
+        wall_s=wall,
+    )
+
+
+def _checked_inputs(cell_ptr, cell_xy, centres, facet_traction):
+    """The four inputs of :func:`reconstruct_stress` as int64 and contiguous float64 arrays;
+    a ``ValueError`` names an inconsistent shape or non-finite data."""
     cell_ptr = np.asarray(cell_ptr, dtype=np.int64)
     cell_xy = np.ascontiguousarray(cell_xy, dtype=np.float64)
     centres = np.ascontiguousarray(centres, dtype=np.float64)
@@ -229,52 +277,31 @@ def reconstruct_stress(
     ):
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{name} must be finite")
+    return cell_ptr, cell_xy, centres, facet_traction
 
+
+_PER_TRIANGLE = {"mean": (2, 2), "vertex": (3, 2, 2), "div": (2,), "area": (), "tri": (3, 2)}
+"""Outputs of :func:`_solve_group` with one entry per sub-triangle, and their trailing shapes."""
+_PER_CELL = ("div_l2", "skew_l2", "weak", "moment")
+"""Outputs of :func:`_solve_group` with one entry per cell."""
+
+
+def _solve_by_size(cell_ptr, cell_xy, centres, facet_traction) -> dict[str, np.ndarray]:
+    """:func:`_solve_group` on the cells of each facet count, its outputs scattered back into
+    arrays over all sub-triangles (``_PER_TRIANGLE``) or all cells (``_PER_CELL``)."""
+    n_cells, n_facets = len(cell_ptr) - 1, int(cell_ptr[-1])
+    out = {key: np.empty((n_facets, *shape)) for key, shape in _PER_TRIANGLE.items()}
+    out.update({key: np.empty(n_cells) for key in _PER_CELL})
     sizes = np.diff(cell_ptr)
-    mean = np.empty((n_facets, 2, 2))
-    vertex = np.empty((n_facets, 3, 2, 2))
-    div = np.empty((n_facets, 2))
-    area = np.empty(n_facets)
-    tri = np.empty((n_facets, 3, 2))
-    div_l2 = np.empty(n_cells)
-    skew_l2 = np.empty(n_cells)
-    weak = np.empty(n_cells)
-    moment = np.empty(n_cells)
     for m in np.unique(sizes):
         cells = np.nonzero(sizes == m)[0]
         rows = cell_ptr[cells][:, None] + np.arange(m)  # (g, m) facet indices
         try:
-            out = _solve_group(cell_xy[rows], centres[cells], facet_traction[rows])
+            group = _solve_group(cell_xy[rows], centres[cells], facet_traction[rows])
         except ValueError as exc:
             raise ValueError(f"{exc} (cells with {m} facets: {cells.tolist()})") from exc
-        mean[rows] = out["mean"]
-        vertex[rows] = out["vertex"]
-        div[rows] = out["div"]
-        area[rows] = out["area"]
-        tri[rows] = out["tri"]
-        div_l2[cells] = out["div_l2"]
-        skew_l2[cells] = out["skew_l2"]
-        weak[cells] = out["weak"]
-        moment[cells] = out["moment"]
-
-    tri_cell = np.repeat(np.arange(n_cells), sizes)
-    cell_area = np.bincount(tri_cell, weights=area, minlength=n_cells)
-    cell_stress = np.zeros((n_cells, 2, 2))
-    np.add.at(cell_stress, tri_cell, mean * area[:, None, None])
-    cell_stress /= cell_area[:, None, None]
-    wall = time.perf_counter() - start
-    logger.info("RT0 reconstruction: %d cells, %d triangles, %.3f s", n_cells, n_facets, wall)
-    return RTReconstruction(
-        tri_xy=tri,
-        tri_cell=tri_cell,
-        tri_area=area,
-        sigma_mean=mean,
-        sigma_vertex=vertex,
-        div=div,
-        cell_stress=cell_stress,
-        div_norm=np.sqrt(div_l2),
-        skew_norm=np.sqrt(skew_l2),
-        weak_symmetry_residual=weak,
-        traction_moment=moment,
-        wall_s=wall,
-    )
+        for key in _PER_TRIANGLE:
+            out[key][rows] = group[key]
+        for key in _PER_CELL:
+            out[key][cells] = group[key]
+    return out

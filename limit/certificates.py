@@ -186,69 +186,87 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
     variables = problem.variables()
     saved = [v.value for v in variables]
     objective = float(problem.objective.value)
-    pairs = []
-    for c in problem.constraints:
-        for z, args, kind in _pairs(c):
-            pairs.append((c, z, args, kind))
-
-    def g_values():
-        return [[np.asarray(a.value, float) for a in args] for _, _, args, _ in pairs]
-
-    def dot(gs):
-        total = 0.0
-        mags = 0.0
-        for (_c, z, _, _kind), g in zip(pairs, gs, strict=True):
-            zf = _flat(z if isinstance(z, list) else [z])
-            gf = _flat(g)
-            if zf.size == 1 and gf.size > 1:
-                zf = np.full(gf.size, zf[0])
-            total += float(zf @ gf)
-            mags += float(np.abs(zf) @ np.abs(gf))
-        return total, mags
-
-    g_x = g_values()
-    comp, comp_mag = dot(g_x)
-    rng = np.random.default_rng(seed)
+    pairs = [(c, z, args, kind) for c in problem.constraints for z, args, kind in _pairs(c)]
+    comp, _ = _pairing(pairs, _g_values(pairs))
     for v in variables:
         v.save_value(np.zeros(v.shape))
-    g_0 = g_values()
-    dual_obj, _ = dot(g_0)
-    stat = 0.0
-    for _ in range(n_probes):
-        probes = [rng.standard_normal(v.shape) for v in variables]
-        for v, pv in zip(variables, probes, strict=True):
-            v.save_value(pv)
-        obj_r = float(problem.objective.expr.value)
-        g_r = g_values()
-        diff = [
-            [a - b for a, b in zip(gr, g0, strict=True)] for gr, g0 in zip(g_r, g_0, strict=True)
-        ]
-        lin, mag = dot(diff)
-        stat = max(stat, abs(obj_r + lin) / max(mag + abs(obj_r), 1e-300))
+    g_0 = _g_values(pairs)
+    dual_obj, _ = _pairing(pairs, g_0)
+    stat = _stationarity(problem, variables, pairs, g_0, n_probes, np.random.default_rng(seed))
     for v, val in zip(variables, saved, strict=True):
         v.save_value(val)
-    cone_viol, zmax = 0.0, 0.0
-    for c, z, _, kind in pairs:
-        viol, scale = _dual_cone_violation(c, kind, z)
-        cone_viol = max(cone_viol, viol)
-        zmax = max(zmax, scale)
-    # cvxpy's cone projection divides by |x| = 0 before masking those entries out
-    with np.errstate(divide="ignore", invalid="ignore"):
-        violations = [np.ravel(np.asarray(c.violation(), float)) for c, _, _, _ in pairs]
-    primal = max((float(np.max(v, initial=0.0)) for v in violations), default=0.0)
-    shift = sum(
-        _shift(c, kind, z, v) for (c, z, _, kind), v in zip(pairs, violations, strict=True)
-    )
+    primal, shift = _primal_residual_and_shift(pairs)
     denom = max(1.0, abs(objective))
     return {
         "primal_residual": primal,
-        "dual_cone_residual": cone_viol / max(zmax, 1e-300),
+        "dual_cone_residual": _dual_cone_residual(pairs),
         "stationarity": stat,
         "duality_gap": (dual_obj - objective) / denom,
         "complementarity": comp / max(denom, 1e-300),
         "dual_objective": dual_obj,
         "feasibility_shift": float(shift),
     }
+
+
+def _g_values(pairs: list) -> list[list[np.ndarray]]:
+    """The constraint arguments ``g`` of every (constraint, dual, args, kind) pair at the
+    variables' present values."""
+    return [[np.asarray(a.value, float) for a in args] for _, _, args, _ in pairs]
+
+
+def _pairing(pairs: list, gs: list) -> tuple[float, float]:
+    """``(sum z . g, sum |z| . |g|)`` over the pairs, a scalar dual broadcast over its
+    argument."""
+    total = 0.0
+    mags = 0.0
+    for (_c, z, _, _kind), g in zip(pairs, gs, strict=True):
+        zf = _flat(z if isinstance(z, list) else [z])
+        gf = _flat(g)
+        if zf.size == 1 and gf.size > 1:
+            zf = np.full(gf.size, zf[0])
+        total += float(zf @ gf)
+        mags += float(np.abs(zf) @ np.abs(gf))
+    return total, mags
+
+
+def _stationarity(problem, variables, pairs, g_0, n_probes: int, rng) -> float:
+    """Largest relative residual of ``f(x) + sum z . (g(x) - g(0)) = 0`` (the Lagrangian's
+    linear part vanishes) over ``n_probes`` random points ``x``; leaves the variables at the
+    last probe."""
+    stat = 0.0
+    for _ in range(n_probes):
+        probes = [rng.standard_normal(v.shape) for v in variables]
+        for v, pv in zip(variables, probes, strict=True):
+            v.save_value(pv)
+        obj_r = float(problem.objective.expr.value)
+        g_r = _g_values(pairs)
+        diff = [
+            [a - b for a, b in zip(gr, g0, strict=True)] for gr, g0 in zip(g_r, g_0, strict=True)
+        ]
+        lin, mag = _pairing(pairs, diff)
+        stat = max(stat, abs(obj_r + lin) / max(mag + abs(obj_r), 1e-300))
+    return stat
+
+
+def _dual_cone_residual(pairs: list) -> float:
+    """Largest distance of a dual from its dual cone, relative to the largest dual."""
+    cone_viol, zmax = 0.0, 0.0
+    for c, z, _, kind in pairs:
+        viol, scale = _dual_cone_violation(c, kind, z)
+        cone_viol = max(cone_viol, viol)
+        zmax = max(zmax, scale)
+    return cone_viol / max(zmax, 1e-300)
+
+
+def _primal_residual_and_shift(pairs: list) -> tuple[float, float]:
+    """Largest constraint violation at the solution, and the feasibility shift ``sum |z|
+    dist(g, K)`` (module notes)."""
+    # cvxpy's cone projection divides by |x| = 0 before masking those entries out
+    with np.errstate(divide="ignore", invalid="ignore"):
+        violations = [np.ravel(np.asarray(c.violation(), float)) for c, _, _, _ in pairs]
+    primal = max((float(np.max(v, initial=0.0)) for v in violations), default=0.0)
+    shift = sum(_shift(c, kind, z, v) for (c, z, _, kind), v in zip(pairs, violations, strict=True))
+    return primal, shift
 
 
 def _shift(constraint, kind: str, z, violation: np.ndarray) -> float:

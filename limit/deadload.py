@@ -147,7 +147,7 @@ def _solve_fixed(
 ) -> LimitResult:
     """The check once the capped programme failed numerically: the full dead load as a
     feasibility programme, certified by its primal residuals. With the resultant model's
-    power cones, the capped one can stall (seed 001 S32: Clarabel 'insufficient progress')
+    power cones, the capped one can stall (Clarabel's 'insufficient progress')
     where the fixed one still finds a certified equilibrium."""
     try:
         return solve_static(_dead_load_programme(scene, settings, mu, fixed=True), feasibility=True)

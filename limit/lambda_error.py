@@ -14,13 +14,16 @@ of lambda:
     first order). Together with the gap this is the solver's error; both are of the order of
     Clarabel's tolerance.
 ``"friction polygon"``
-    Where ``friction_polygon = k``: the inscribed ``k``-gon of the circle of radius
-    :math:`\mu/\cos(\pi/k)` contains the circle of radius :math:`\mu`, so the programme with
-    every friction coefficient divided by :math:`\cos(\pi/k)` has a larger admissible set
-    than the exact cone (in the resultant model its torsion capacity grows too, which only
-    enlarges the set further). The exact optimum then lies in :math:`[\lambda, \lambda_{out}]`,
-    one-sided; the whole width (plus the outer solve's own solver error) is the half-width.
-    It costs one more solve of the compiled programme (a Parameter change, no recompilation).
+    Where ``friction_polygon = k``: the distance to the optimum of the same programme with
+    the exact (second-order) cones, plus that solve's own solver error
+    (:func:`limit.solve.polygon_error`); the cones cost Clarabel about what the polygons do.
+    Should the exact cones fail, the outer bracket: the inscribed ``k``-gon of the circle of
+    radius :math:`\mu/\cos(\pi/k)` contains the circle of radius :math:`\mu`, so the programme
+    with every friction coefficient divided by :math:`\cos(\pi/k)` has a larger admissible
+    set than the exact cone (in the resultant model its torsion capacity grows too, which
+    only enlarges the set further). The exact optimum then lies in
+    :math:`[\lambda, \lambda_{out}]`, one-sided; the whole width (plus the outer solve's own
+    solver error) is the half-width, loose where the load points near a polygon corner.
 ``"iteration"``
     Estimate (b) of :mod:`limit.estimates`: the geometric tail
     :math:`\rho/(1-\rho)\,|\lambda_k - \lambda_{k-1}|` of its last two steps, with

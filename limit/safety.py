@@ -120,12 +120,7 @@ def geometric_safety_factor(
     NumericalFailureError
         A dead-load check without a certified answer (the parameter value is named).
     """
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise ValueError(f"the bracket needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
-    if not 0 < rtol < 1:
-        raise ValueError(f"rtol must lie in (0, 1), got {rtol}")
-    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
-        raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
+    _check_bracket(lo, hi, rtol, max_steps)
     settings = checked_settings(settings)
     t0 = time.perf_counter()
     at_lo, at_hi = _check(build, lo, settings), _check(build, hi, settings)
@@ -137,14 +132,49 @@ def geometric_safety_factor(
             "it stands at one end and falls at the other"
         )
     stands_above = at_hi.stands
-    (t_fall, fall), (t_stand, stand) = (
-        ((lo, at_lo), (hi, at_hi))
-        if stands_above
-        else (
-            (hi, at_hi),
-            (lo, at_lo),
-        )
+    ends = ((lo, at_lo), (hi, at_hi)) if stands_above else ((hi, at_hi), (lo, at_lo))
+    (t_fall, fall), (t_stand, stand) = _bisect(build, settings, *ends, rtol, max_steps, history)
+    critical = 0.5 * (t_fall + t_stand)
+    factor = None
+    if actual is not None:
+        factor = actual / critical if stands_above else critical / actual
+    return GeometricSafetyResult(
+        critical=critical,
+        stands_above=stands_above,
+        bracket=(t_fall, t_stand),
+        factor=factor,
+        standing=stand,
+        falling=fall,
+        history=history,
+        wall_s=time.perf_counter() - t0,
     )
+
+
+def _check_bracket(lo: float, hi: float, rtol: float, max_steps: int) -> None:
+    """Raise a ``ValueError`` naming a bad bracket, ``rtol`` or ``max_steps``."""
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ValueError(f"the bracket needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
+    if not 0 < rtol < 1:
+        raise ValueError(f"rtol must lie in (0, 1), got {rtol}")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
+        raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
+
+
+def _bisect(
+    build: Callable[[float], Scene],
+    settings: LimitSettings,
+    falling: tuple[float, StandsResult],
+    standing: tuple[float, StandsResult],
+    rtol: float,
+    max_steps: int,
+    history: list,
+) -> tuple[tuple[float, StandsResult], tuple[float, StandsResult]]:
+    """Halve the bracket between ``falling`` and ``standing`` (each ``(t, check)``) until it is
+    narrower than ``rtol``; append every check to ``history``; return the final two ends.
+
+    Raises a ``ValueError`` if ``max_steps`` steps leave the bracket wider than ``rtol``.
+    """
+    (t_fall, fall), (t_stand, stand) = falling, standing
     for _ in range(max_steps):
         if _narrow(t_fall, t_stand, rtol):
             break
@@ -161,17 +191,4 @@ def geometric_safety_factor(
             f"[{min(t_fall, t_stand):.6g}, {max(t_fall, t_stand):.6g}], wider than rtol = "
             f"{rtol:g} times the critical value: raise max_steps or rtol"
         )
-    critical = 0.5 * (t_fall + t_stand)
-    factor = None
-    if actual is not None:
-        factor = actual / critical if stands_above else critical / actual
-    return GeometricSafetyResult(
-        critical=critical,
-        stands_above=stands_above,
-        bracket=(t_fall, t_stand),
-        factor=factor,
-        standing=stand,
-        falling=fall,
-        history=history,
-        wall_s=time.perf_counter() - t0,
-    )
+    return (t_fall, fall), (t_stand, stand)

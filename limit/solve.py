@@ -119,11 +119,12 @@ def limit_analysis(
     certify : bool
     error : {"none", "cheap", "full"}
         What to spend on ``lambda_estimate`` (:mod:`limit.lambda_error`). ``"none"``: an
-        unknown error. ``"cheap"``: the solver's error from the certificate, which costs
-        nothing more, and with a ``friction_polygon`` its bracket by the outer polygon (one
-        more solve of the compiled programme; a bound, loose where the load points at a
-        polygon corner). ``"full"``: the same, but the polygon's error measured against the
-        exact cones (one more programme compiled and solved).
+        unknown error. ``"cheap"`` and ``"full"``: the solver's error from the certificate,
+        which costs nothing more, and with a ``friction_polygon`` the polygon's error
+        measured against the exact cones (one more programme compiled and solved with
+        Clarabel's second-order cones: it costs about what the polygon's own solve costs,
+        and unlike the outer polygon's bracket it is not loose where the load points at a
+        polygon corner; the bracket is the fallback if the exact cones fail).
 
     Returns
     -------
@@ -157,23 +158,25 @@ def limit_analysis(
     require_standing(scene, settings)
     if error == "none":
         result.lambda_estimate = Estimate.unknown(result.lam, "error budget 'none'")
-    elif settings.friction_polygon is not None and error == "cheap":
-        result.lambda_estimate = polygon_bracket(sp_, result)
     elif settings.friction_polygon is not None:
-        result.lambda_estimate = polygon_error(scene, settings, result)
+        result.lambda_estimate = polygon_error(scene, settings, result, sp_)
     return result
 
 
-def polygon_error(scene: Scene, settings: LimitSettings, result: LimitResult) -> Estimate:
+def polygon_error(
+    scene: Scene, settings: LimitSettings, result: LimitResult, sp_: StaticProblem
+) -> Estimate:
     """``result.lambda_estimate`` with the ``"friction polygon"`` source measured: the
-    distance to the optimum with the exact cones, plus that solve's own solver error."""
+    distance to the optimum with the exact cones, plus that solve's own solver error; if the
+    exact-cone programme fails, the outer polygon's bracket (:func:`polygon_bracket` of the
+    compiled programme ``sp_``)."""
     t0 = time.perf_counter()
     try:
         exact = solve_static(build_static_problem(scene, settings.with_(friction_polygon=None)))
-        width = abs(exact.lam - result.lam) + exact.lambda_estimate.error
     except LimitAnalysisError as exc:
-        logger.info("exact-cone programme failed: %s", exc)
-        width = math.inf
+        logger.info("exact-cone programme failed (%s): the outer polygon brackets instead", exc)
+        return polygon_bracket(sp_, result)
+    width = abs(exact.lam - result.lam) + exact.lambda_estimate.error
     return result.lambda_estimate.with_source(
         "friction polygon", width, cost_s=time.perf_counter() - t0
     )

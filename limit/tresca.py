@@ -73,7 +73,9 @@ class TrescaSettings:
     qp_tol : float
         Gap and feasibility tolerances passed to Clarabel for the ``min_energy`` QP. The
         weights :math:`d_e/|e|` span orders of magnitude on random Voronoi cells (tiny edges),
-        and Clarabel's defaults (1e-8) leave ~1e-6 relative error on the forces. Default 1e-12.
+        and the error a gap ``g`` leaves on an edge force grows as ``sqrt(g / w_e)``
+        (:func:`min_energy_force_bound`), so the default is far tighter than Clarabel's own
+        (1e-8). Default 1e-12.
     feas_tol : float
         Relative tolerance of the certificates (equilibrium, friction bound, gap) above which
         the result is rejected with :class:`NumericalFailureError`. Default 1e-6.
@@ -483,9 +485,7 @@ def _min_energy_forces(
     """Admissible edge forces of least weighted norm (our selection rule, see module notes)."""
     n_e = packing.n_edges
     A = equilibrium_matrix(packing)
-    d = packing.centres[packing.edge_cells[:, 1]] - packing.centres[packing.edge_cells[:, 0]]
-    dist = np.abs(np.sum(d * packing.edge_normal, axis=1))
-    w = dist / packing.edge_length
+    w = _min_energy_weights(packing)
     # the last cell's balance follows from the others since the resultant vanishes
     keep = slice(0, 2 * packing.n_cells - 2)
     lam = cp.Variable(n_e)
@@ -502,6 +502,45 @@ def _min_energy_forces(
     problem.solve(solver=settings.qp_solver, **options)
     inaccurate = _accept(problem, "Tresca min-energy selection", "The admissible set is empty.")
     return np.asarray(lam.value), np.asarray(f_t.value), inaccurate
+
+
+def _min_energy_weights(packing: Packing) -> np.ndarray:
+    """Weights :math:`w_e = d_e / |e|` [-] of the min-energy objective, shape (n_edges,)."""
+    d = packing.centres[packing.edge_cells[:, 1]] - packing.centres[packing.edge_cells[:, 0]]
+    return np.abs(np.sum(d * packing.edge_normal, axis=1)) / packing.edge_length
+
+
+def min_energy_force_bound(
+    packing: Packing, result: TrescaResult, settings: TrescaSettings | None = None
+) -> np.ndarray:
+    """Certified half-width [N/m] of each min-energy edge force, shape (n_edges,): the exact
+    minimiser's :math:`\\lambda_e` and :math:`f_{t,e}` lie within it of ``result``'s.
+
+    Notes
+    -----
+    The objective :math:`f(z) = \\tfrac12 \\sum_e w_e (\\lambda_e^2 + f_{t,e}^2)` is strongly
+    convex in the :math:`w`-norm, so for an admissible :math:`z` the optimality of the
+    minimiser :math:`z^*` over the convex admissible set gives
+    :math:`\\tfrac12 \\|z - z^*\\|_w^2 \\le f(z) - f(z^*)`, which is at most the duality gap;
+    Clarabel stops when the gap is below ``qp_tol`` absolutely or relative to the objective,
+    so the gap is at most :math:`g = \\text{qp\\_tol}\\,\\max(1, f(z))` [J/m] and
+    :math:`|z_e - z^*_e| \\le \\sqrt{2 g / w_e}`. The returned point is admissible only to
+    ``qp_tol``; the largest cell load times ``qp_tol`` is added for that. The bound is
+    certified but loose: a gap of :math:`g` only bounds the distance by :math:`\\sqrt{g}`.
+    """
+    settings = settings or TrescaSettings(selection="min_energy")
+    if result.selection != "min_energy":
+        raise ValueError(
+            f"min_energy_force_bound needs a min_energy result, got selection {result.selection!r}"
+        )
+    if settings.qp_solver != "CLARABEL":
+        raise ValueError(f"the bound needs Clarabel's gap tolerance, got {settings.qp_solver!r}")
+    w = _min_energy_weights(packing)
+    z = np.concatenate([result.normal_force, result.tangential_force])
+    energy = 0.5 * float(np.sum(np.concatenate([w, w]) * z**2))
+    gap = settings.qp_tol * max(1.0, energy)
+    load = float(np.max(np.linalg.norm(result.cell_load, axis=1), initial=0.0))
+    return np.sqrt(2.0 * gap / w) + settings.qp_tol * load
 
 
 def facet_tractions(packing: Packing, result: TrescaResult, traction: np.ndarray) -> np.ndarray:

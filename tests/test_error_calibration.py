@@ -17,7 +17,8 @@ Catalogue (limit analysis, :mod:`limit.lambda_error`):
   sqrt(0.15^2 + 0.1^2); resultant: c_T mu N);
 - joints with tensile strength: mu (W + sigma_t A) / W, and a hanging block's pull-out;
 - a flat block sliding under a load at theta with an inscribed friction polygon of k sides
-  (``error="full"``: the polygon's error measured against the exact cones), exact mu;
+  (``error="cheap"`` and ``"full"``: the polygon's error measured against the exact cones),
+  exact mu;
 - the Tresca load multiplier (seed 003, :attr:`limit.tresca.TrescaMultiplierResult.
   load_multiplier_estimate`): 2 x 2 unit cells under pure shear, s / tau, and a brick wall's
   bed joints, s, with Clarabel and HiGHS;
@@ -28,13 +29,19 @@ Catalogue (limit analysis, :mod:`limit.lambda_error`):
 Static DEM (:func:`dem.static.solve_collapse`, ``StaticResult.lambda_estimate``): the same
 blocks and stacks, resultant and fibre laws.
 
+FEM check (:func:`fem_check.error.solve_with_error`): the largest principal stress of a TIS
+block under smooth interface tractions, P2, ``error="full"``, against a finer P2 solve.
+
 Explicit DEM (:func:`dem.explicit.simulate_lateral`): stacks of one to three blocks tipping
 at b / (n h) or sliding at mu, with rigid joints (``error="cheap"``: load step, detection,
-loading rate) and with soft joints continued to rigid ones (``RigidContinuation``).
+loading rate) and with soft joints continued to rigid ones (``RigidContinuation``); the
+peak load and deflection at peak of an indented 3 x 3 TIS panel (``error="cheap"``: curve
+sampling, loading rate) against the run at a quarter of its speed.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -158,15 +165,16 @@ def limit_cases() -> list[Case]:
     mu = 0.5
     for theta_deg in (10.0, 22.5, 40.0):
         for k in (4, 8):
-            cases.append(
-                _la_case(
-                    f"sliding at {theta_deg} deg, {k}-gon, full",
-                    lambda t=theta_deg: _sliding_block(math.radians(t), mu),
-                    mu,
-                    LimitSettings(friction_polygon=k),
-                    error="full",
+            for budget in ("cheap", "full"):
+                cases.append(
+                    _la_case(
+                        f"sliding at {theta_deg} deg, {k}-gon, {budget}",
+                        lambda t=theta_deg: _sliding_block(math.radians(t), mu),
+                        mu,
+                        LimitSettings(friction_polygon=k),
+                        error=budget,
+                    )
                 )
-            )
     return cases
 
 
@@ -311,6 +319,80 @@ def explicit_cases(fast: bool) -> list[Case]:
     ]
 
 
+FEM_H_MM = (1.4, 1.0)
+"""Mesh sizes [mm] of the FEM peak estimates (``error="full"``: two coarser levels each)."""
+FEM_REFERENCE_H_MM = (0.7, 0.5)
+"""The reference: P2 at the finer size, known to its step from the coarser one [mm]."""
+
+
+def _fem_peak(block, load, h_mm: float, budget: str = "full") -> Estimate:
+    from fem_check.elastic import BlockSolver
+    from fem_check.error import reference_solvers, solve_with_error
+    from fem_check.mesh import MeshSettings
+    from validation.cases.fem import MATERIAL
+
+    solver = BlockSolver(MATERIAL, MeshSettings(size=h_mm * 1e-3), degree=2)
+    refs = reference_solvers(solver, budget)
+    return solve_with_error(solver, block, load, refs, budget)[1].max_principal
+
+
+def fem_cases() -> list[Case]:
+    """The largest principal stress of a TIS block under smooth interface tractions (P2, the
+    case of ``benchmarks/bench_fem.py --speed-error``), ``error="full"`` at each of
+    :data:`FEM_H_MM`, against the P2 value at the finest of :data:`FEM_REFERENCE_H_MM`,
+    known to its step from the other one. Resolution: the sparse solves'
+    (:data:`fem_check.error.ROUND_OFF` of the value)."""
+    from fem_check.error import ROUND_OFF
+    from validation.cases.fem import _smooth_tis_load, _tis_block
+
+    block = _tis_block(2.5)
+    load = _smooth_tis_load(block)
+    coarse_ref, fine_ref = (_fem_peak(block, load, h, "none").value for h in FEM_REFERENCE_H_MM)
+    return [
+        Case(
+            f"FEM TIS peak, P2, h = {h} mm, full",
+            lambda h=h: _fem_peak(block, load, h),
+            fine_ref,
+            abs(fine_ref - coarse_ref),
+            ROUND_OFF * abs(fine_ref),
+        )
+        for h in FEM_H_MM
+    ]
+
+
+@functools.cache
+def _indentation(speed_mm_s: float, error: str):
+    """The 3 x 3, 2.5 deg panel of seed 000 at node spacing 1.5 mm, indented at
+    ``speed_mm_s`` until the load has fallen to 85 % after the peak."""
+    from dem.explicit import ExplicitSettings, IndentationSettings, simulate_indentation
+    from dem.scenes.tis_panel import tis_panel
+    from dem.tis_stiffness import tis_panel_k_def
+    from dem.units import MM
+
+    settings = ExplicitSettings(k_n=tis_panel_k_def(3), node_spacing=1.5 * MM)
+    indentation = IndentationSettings(speed=speed_mm_s * MM, stop_below_peak_fraction=0.85)
+    return simulate_indentation(tis_panel(3, 2.5), settings, indentation, error=error)
+
+
+def indentation_cases() -> list[Case]:
+    """The explicit indentation's peak load and deflection at peak at 50 mm/s with the
+    ``"cheap"`` budget (curve sampling, loading rate) against the run at 12.5 mm/s, same
+    node spacing and time step: the converged answer in the loading rate to within its own
+    rate error, a quarter of the first run's at order 1 (taken as exact). The reference run
+    is made when the catalogue is built."""
+    reference = _indentation(12.5, "none")
+    return [
+        Case(
+            f"explicit indentation 3x3 2.5 deg: {name}",
+            lambda name=name: _indentation(50.0, "cheap").estimates[name],
+            float(getattr(reference, name)),
+            0.0,
+            EXPLICIT_RESOLUTION * abs(float(getattr(reference, name))),
+        )
+        for name in ("peak_load", "deflection_at_peak")
+    ]
+
+
 def run_catalogue(cases: list[Case]) -> list[Outcome]:
     return [Outcome(c, c.run()) for c in cases]
 
@@ -355,9 +437,19 @@ def test_explicit_bars_are_calibrated_fast_subset():
     check(run_catalogue(explicit_cases(fast=True)))
 
 
+@pytest.mark.slow  # P2 solves down to 0.5 mm: about 5 min on a busy machine
+def test_fem_tis_peak_bars_are_calibrated():
+    check(run_catalogue(fem_cases()))
+
+
 @pytest.mark.slow  # six explicit runs with their loading-rate reruns: ~40 s on a busy machine
 def test_explicit_bars_are_calibrated():
     check(run_catalogue(explicit_cases(fast=False)))
+
+
+@pytest.mark.slow  # three runs to the peak of a 3x3 panel, one at a quarter of the speed
+def test_explicit_indentation_bars_are_calibrated():
+    check(run_catalogue(indentation_cases()))
 
 
 def test_the_calibration_can_fail():
@@ -379,6 +471,8 @@ if __name__ == "__main__":  # the counts for a report: python -m tests.test_erro
         ("arch", arch_cases()),
         ("static", static_cases()),
         ("explicit", explicit_cases(fast=False)),
+        ("fem", fem_cases()),
+        ("indentation", indentation_cases()),
     )
     for name, cases in catalogue:
         outcomes = run_catalogue(cases)

@@ -27,28 +27,7 @@ HARD_LIMIT = 100  # lines, def to last line
 SOFT_LIMIT = 80
 MAX_OVER_SOFT = 5
 
-_WAITING = {
-    "files of the explicit helper this session (issue 27)": (
-        "dem/contact_nodes.py::seed_contact_nodes",
-        "dem/contact_nodes.py::seed_face",
-        "dem/kernels/contact_force.py::contact_entries",
-        "dem/explicit/indentation.py::simulate_indentation",
-        "dem/explicit/model.py::ExplicitModel.__init__",
-    ),
-    "files of the static-scale helper this session (issue 26)": (
-        "dem/interface_strength/capacities.py::torsion_section",
-    ),
-    "files the errors-methods helper adds to this session (issue 28)": (
-        "fem_check/rt_reconstruction.py::reconstruct_stress",
-        "fem_check/rt_reconstruction.py::_solve_group",
-        "fem_check/mesh.py::mesh_polyhedra",
-        "limit/safety.py::geometric_safety_factor",
-        "limit/certificates.py::conic_certificate",
-    ),
-    "files of the files helper this session (issue 29)": (
-        "validation/crosscheck/files.py::markdown",
-    ),
-}
+_WAITING = {}
 ALLOWED_LONG = {tuple(key.split("::")): reason for reason, keys in _WAITING.items() for key in keys}
 """(path, function) longer than ``SOFT_LIMIT`` that wait for their split, with the reason."""
 

@@ -157,12 +157,12 @@ def _worker_count(text: str) -> int:
 
 
 def _run_on_cluster(names: list[str], args) -> int:
-    """The cases as dask tasks (validation.sweep.cases); each writes its results as it ends.
+    """The cases as dask tasks (validation.cluster); each writes its results as it ends.
 
     A case's failure is reported and the others go on (1 at the end); a cluster that cannot
     be used is one line naming it: 2 for an address that is none (bad usage), 1 for one that
     cannot be reached or a cluster that fails."""
-    from validation.sweep.cases import run_cases_on_cluster
+    from validation.cluster import run_cases_on_cluster
     from validation.sweep.executors import SCHEDULER_ENV
 
     failed = []

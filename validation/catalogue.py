@@ -2,7 +2,7 @@
 writes into the full or the quick results folder.
 
 The command line (``validation.__main__``) and the dask runner of cases
-(``validation.sweep.cases``) both run cases through :func:`run_case`; neither imports the other.
+(``validation.cluster``) both run cases through :func:`run_case`; neither imports the other.
 """
 
 from __future__ import annotations

@@ -50,6 +50,10 @@ def is_published(source: str) -> bool:
     return s.startswith("seed ") and ("table" in s or "experiment" in s)
 
 
+REFERENCE_KINDS = ("value", "upper bound", "lower bound")
+"""What a row's reference is (:attr:`Row.reference_kind`)."""
+
+
 @dataclass
 class Row:
     """One line of a validation table.
@@ -77,6 +81,13 @@ class Row:
         (``{"not estimated": inf}``), never a silent zero.
     error_notes
         How the bar was estimated (levels, order assumed).
+    reference_kind
+        What ``reference`` is: ``"value"`` (the default: ours should equal it, so it should lie
+        in our bar), ``"upper bound"`` (ours should lie at or below it) or ``"lower bound"``
+        (at or above it). A bound is an inequality, never an equality to miss.
+    reference_error
+        Half-width of the reference's own bar (same unit, >= 0; 0 for a closed form): a bound
+        holds when our bar and the bound's bar reach the allowed side.
     """
 
     quantity: str
@@ -88,8 +99,19 @@ class Row:
     extra: dict[str, Any] = field(default_factory=dict)
     error_sources: dict[str, float] = field(default_factory=dict)
     error_notes: str = ""
+    reference_kind: str = "value"
+    reference_error: float = 0.0
 
     def __post_init__(self) -> None:
+        if self.reference_kind not in REFERENCE_KINDS:
+            raise ValueError(
+                f"row {self.quantity!r}: reference_kind must be one of {REFERENCE_KINDS}, "
+                f"got {self.reference_kind!r}"
+            )
+        if not (self.reference_error >= 0.0):  # False for NaN
+            raise ValueError(
+                f"row {self.quantity!r}: reference_error must be >= 0, got {self.reference_error!r}"
+            )
         if isinstance(self.ours, Estimate):
             est = self.ours
             if self.error_sources:
@@ -134,19 +156,31 @@ class Row:
 
     @property
     def reference_inside(self) -> bool | None:
-        """Whether the reference lies in ``ours ± ours_error`` (None: nothing to compare, or
-        the error is unknown, so the bar says nothing)."""
+        """Whether ours agrees with the reference within the bars: for a value, whether it lies
+        in ``ours ± ours_error``; for an upper (lower) bound, whether ``ours - ours_error`` is
+        at most (``ours + ours_error`` at least) the bound widened by ``reference_error``.
+        None: nothing to compare, or either error is unknown, so the bars say nothing."""
         est = self.estimate
         if est is None or self.reference is None or not math.isfinite(est.error):
             return None
-        return est.contains(float(self.reference))
+        if not math.isfinite(self.reference_error):
+            return None
+        ref = float(self.reference)
+        if self.reference_kind == "upper bound":
+            return est.lo <= ref + self.reference_error
+        if self.reference_kind == "lower bound":
+            return est.hi >= ref - self.reference_error
+        if self.reference_error > 0.0:
+            return est.overlaps(Estimate(ref, {"reference": self.reference_error}))
+        return est.contains(ref)
 
     @property
     def error_kind(self) -> str | None:
-        """Why the reference lies outside our bar: ``"model"`` when the reference is a seed's
-        table or experiment (the physics differs: model error), ``"numerical"`` when it is a
-        closed form or another method (our bar is too small, or a method is wrong); None when
-        it lies inside or nothing is compared."""
+        """Why ours disagrees with the reference (:attr:`reference_inside` False): ``"model"``
+        when the reference is a seed's table or experiment (the physics differs: model error),
+        ``"numerical"`` when it is a closed form or another method (our bar is too small, or a
+        method is wrong; for a bound, the bound is broken); None when they agree or nothing is
+        compared."""
         if self.reference_inside is not False:
             return None
         return "model" if is_published(self.source) else "numerical"
@@ -339,7 +373,9 @@ ERROR_LEGEND = (
     "an error not estimated. `ref in bar`: whether the reference lies in that bar; where it does "
     "not, `model` marks a reference from a seed's table or experiment (the physics of our model "
     "differs from the experiment: a model error, which no refinement removes) and `numerical` a "
-    "closed form or another method (our bar is too small, or a method is wrong)."
+    "closed form or another method (our bar is too small, or a method is wrong). A reference "
+    "that is a bound is an inequality: `below the bound` / `above the bound` says on which side "
+    "of it ours lies within both bars (`yes` on the side it must, `no` on the wrong one)."
 )
 
 
@@ -348,7 +384,12 @@ def _inside_cell(row: Row) -> str:
         return "-"
     if row.reference_inside is None:
         return "?"
-    return "yes" if row.reference_inside else f"no ({row.error_kind})"
+    if row.reference_kind == "value":
+        return "yes" if row.reference_inside else f"no ({row.error_kind})"
+    below = row.reference_kind == "upper bound"
+    side = "below" if below == row.reference_inside else "above"
+    verdict = "yes" if row.reference_inside else f"no ({row.error_kind})"
+    return f"{verdict}: {side} the bound"
 
 
 def markdown(payload: dict[str, Any], rows: list[Row]) -> str:

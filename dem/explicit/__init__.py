@@ -15,6 +15,8 @@ Modules, one concern each:
 - :mod:`~dem.explicit.model`: the scene prepared for dynamics (nodes, neighbour list, advance,
   relaxation, support check);
 - :mod:`~dem.explicit.indentation`: the sphere-indentation driver (seed 000) with checkpoints;
+- :mod:`~dem.explicit.indentation_error`: the error bars of its numbers (curve sampling,
+  loading rate, time step, node spacing);
 - :mod:`~dem.explicit.lateral`: the tilting-table / live-load driver to collapse;
 - :mod:`~dem.explicit.continuation`: the lateral multiplier's error bar (bracket, loading
   rate, time step, node spacing) and its continuation in joint stiffness to rigid blocks;

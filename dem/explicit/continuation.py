@@ -3,8 +3,8 @@ continuation in joint stiffness to rigid blocks.
 
 The explicit DEM answers for blocks with the material's joint stiffness ``k_n`` and large
 displacements; the rigid-block methods (limit analysis, static DEM) for rigid blocks in small
-displacements. A soft structure leans before it collapses and carries less (an arch of
-voussoirs loses some 15 % at the default joint stiffness). Both numbers are reported:
+displacements. A soft structure leans before it collapses and carries less. Both numbers
+are reported:
 
 - at the material stiffness, :func:`bracket_estimate`: the middle of
   ``(lambda_stable - detection, lambda_moving]`` with that half-width (sources "load step" and
@@ -40,8 +40,7 @@ ASSUMED_ORDER = 1.0
 elastic lean and the sinking of the edge nodes of a hinge are proportional to ``1 / k``."""
 ORDER_RANGE = (0.5, 3.0)
 """Orders accepted as measured from three levels; below the range the levels are not yet in
-the asymptotic regime (an arch of 20 voussoirs gives 0.2 from 1, 10 and 100 times its
-material stiffness, 1.2 from 10, 100 and 1000)."""
+the asymptotic regime (the softest level still far from it)."""
 
 
 @dataclass(frozen=True)
@@ -58,9 +57,8 @@ class RigidContinuation:
         Stop once the rigid estimate's half-width is below this fraction of it; default 0.01.
     max_mass_scaling : float
         Largest factor on the inertial masses of a stiffer level (the level at ``k_n`` times
-        ``f`` scales them by ``min(f, max_mass_scaling)``); default 30 (the detection bound
-        of a scaled run grows with the scaling: at 30 the displacement-based bound of an arch
-        of 0.2 m voussoirs is about the speed-based one, 0.0017).
+        ``f`` scales them by ``min(f, max_mass_scaling)``); default 30. The detection bound of
+        a scaled run grows with the scaling (:mod:`dem.explicit.lateral`), which caps it.
     """
 
     ratio: float = 10.0

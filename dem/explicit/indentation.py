@@ -41,7 +41,9 @@ from pathlib import Path
 
 import numpy as np
 
+from dem.estimate import ErrorBudget, check_error_budget
 from dem.explicit.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
+from dem.explicit.indentation_error import indentation_estimates
 from dem.explicit.model import ExplicitModel
 from dem.explicit.results import (
     PEAK_DROP_FRACTION,
@@ -81,8 +83,10 @@ def simulate_indentation(
     checkpoint: str | Path | None = None,
     checkpoint_every_s: float = 60.0,
     stop_after_chunks: int | None = None,
+    error: ErrorBudget = "none",
 ) -> IndentationResult:
-    """Relax a scene under gravity, then indent one block at constant speed.
+    """Relax a scene under gravity, then indent one block at constant speed; optionally
+    estimate the errors of the curve's numbers.
 
     Parameters
     ----------
@@ -93,19 +97,42 @@ def simulate_indentation(
     checkpoint : path, optional
         ``.npz`` file. If it exists and was written for the same scene and settings, the run
         resumes from it; it is rewritten every ``checkpoint_every_s`` of wall time and at the
-        end. A resumed run gives the same curve as an uninterrupted one.
+        end. A resumed run gives the same curve as an uninterrupted one. (The reruns of the
+        error estimate are not checkpointed.)
     checkpoint_every_s : float
         [s] of wall time.
     stop_after_chunks : int, optional
         Testing hook: abandon the run after this many chunks of the indentation phase (after
         writing a checkpoint), raising ``KeyboardInterrupt``.
+    error : {"none", "cheap", "full"}
+        What ``result.estimates`` measures (:mod:`dem.explicit.indentation_error`): ``"none"``
+        nothing (unknown bars), ``"cheap"`` the sampling of the curve and the loading rate
+        (one more run at half the speed), ``"full"`` also the time step and the node spacing
+        (a run each at half of it).
 
     Returns
     -------
     IndentationResult
+        With ``estimates``: peak load, deflection at peak, loading energy and ultimate
+        deflection with their error bars.
     """
+    check_error_budget(error)
     indentation = indentation or IndentationSettings()
     relaxation = relaxation or RelaxationSettings()
+    result = _run_once(scene, settings, indentation, relaxation,
+                       (checkpoint, checkpoint_every_s, stop_after_chunks))  # fmt: skip
+
+    def run(settings_: ExplicitSettings, indentation_: IndentationSettings) -> IndentationResult:
+        return _run_once(scene, settings_, indentation_, relaxation, (None, math.inf, None))
+
+    result.estimates = indentation_estimates(run, settings, indentation, result, error)
+    return result
+
+
+def _run_once(scene, settings, indentation, relaxation, checkpointing) -> IndentationResult:
+    """One run of :func:`simulate_indentation` (no error estimate); ``checkpointing`` is
+    ``(path or None, every [s], stop_after_chunks)``."""
+    checkpoint, every_s, stop_after_chunks = checkpointing
     wall0 = time.perf_counter()
     block = indentation.block
     if block is None:
@@ -127,6 +154,20 @@ def simulate_indentation(
         logger.info("resumed from %s at delta=%.4g mm", ckpt, st.delta_now / MM)
     ind = {"centre0": st.centre0, "t0": st.t0, "radius": indentation.tip_radius,
            "velocity": np.array([0.0, 0.0, -indentation.speed])}  # fmt: skip
+    loop = _indent(model, st, ind, indentation, (ckpt, every_s, stop_after_chunks))
+    st.finished = True
+    if ckpt is not None:
+        st.save(ckpt, model)
+    wall_s = time.perf_counter() - wall0
+    return _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setup_s, loop)
+
+
+def _indent(model: ExplicitModel, st: _RunState, ind: dict, indentation: IndentationSettings,
+            checkpointing: tuple) -> tuple[float, float, int]:  # fmt: skip
+    """Drive the sphere down from ``st`` to the end of the run (or a stop criterion), record by
+    record; ``checkpointing`` as :func:`_run_once`. Returns the loop's wall and process-CPU
+    times [s] and the steps it ran."""
+    ckpt, every_s, stop_after_chunks = checkpointing
     steps_per_record = max(1, round(indentation.record_interval / (indentation.speed * model.dt)))
     n_steps_total = math.ceil(indentation.max_deflection / (indentation.speed * model.dt))
     last_ckpt = last_log = loop_start = time.perf_counter()
@@ -143,35 +184,34 @@ def simulate_indentation(
         except UnmodelledContactError as exc:
             # the curve up to the last record holds; past it the blocks (or the indenter and a
             # block) pass through each other
-            logger.warning("indent %s stopped: %s", scene.name, exc)
+            logger.warning("indent %s stopped: %s", model.scene.name, exc)
             st.stopped_by = str(exc)
             break
         p_mean, delta = st.advance(model, n, acc, indentation)
         st.check_stop(p_mean, delta, indentation)
         now = time.perf_counter()
-        if now - last_log >= settings.progress_every_s:
+        if now - last_log >= model.settings.progress_every_s:
             rate = (st.steps - steps_start) / (now - loop_start)
-            logger.info(
-                "indent %s: delta=%.4f mm P=%.3f N (peak %.3f N) %.0f steps/s, at most %.0f s "
-                "left", scene.name, delta / MM, p_mean, st.best_load, rate,
-                (n_steps_total - st.steps) / rate if rate > 0 else float("nan"),
-            )  # fmt: skip
+            _log_progress(model, st, p_mean, delta, rate, n_steps_total)
             last_log = now
         chunks += 1
         stop_now = stop_after_chunks is not None and chunks >= stop_after_chunks
-        if ckpt is not None and (now - last_ckpt >= checkpoint_every_s or stop_now):
+        if ckpt is not None and (now - last_ckpt >= every_s or stop_now):
             st.save(ckpt, model)
             last_ckpt = now
         if stop_now:
             raise KeyboardInterrupt(f"stopped after {chunks} chunks (test hook)")
-    st.finished = True
     loop_s = time.perf_counter() - loop_start
-    loop_cpu_s = time.process_time() - loop_cpu0
-    if ckpt is not None:
-        st.save(ckpt, model)
-    wall_s = time.perf_counter() - wall0
-    return _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setup_s,
-                        (loop_s, loop_cpu_s), st.steps - steps_start)  # fmt: skip
+    return loop_s, time.process_time() - loop_cpu0, st.steps - steps_start
+
+
+def _log_progress(model, st, p_mean: float, delta: float, rate: float, n_steps_total: int):
+    """One progress line at INFO level (``rate`` in steps per second of wall time)."""
+    logger.info(
+        "indent %s: delta=%.4f mm P=%.3f N (peak %.3f N) %.0f steps/s, at most %.0f s left",
+        model.scene.name, delta / MM, p_mean, st.best_load, rate,
+        (n_steps_total - st.steps) / rate if rate > 0 else float("nan"),
+    )  # fmt: skip
 
 
 def _sphere_start(model: ExplicitModel, block: int, indentation: IndentationSettings) -> np.ndarray:
@@ -345,11 +385,11 @@ def _snapshot(model: ExplicitModel, sphere, delta: float, kind: str) -> dict:
     return {"delta": delta, "pairs": pairs, "force": force, "point": point, "kind": kind}
 
 
-def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setup_s, loop,
-                 steps_run) -> IndentationResult:  # fmt: skip
+def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setup_s,
+                 loop) -> IndentationResult:  # fmt: skip
     """The result of a run; ``loop`` is the wall and process-CPU time of the indentation loop
-    [s]."""
-    loop_s, loop_cpu_s = loop
+    [s] and the steps it ran."""
+    loop_s, loop_cpu_s, steps_run = loop
     delta = np.asarray(st.delta)
     load = np.asarray(st.load)
     summary = curve_summary(delta, load, indentation.ultimate_fraction, indentation.out_confirm,

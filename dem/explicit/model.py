@@ -63,16 +63,11 @@ from dem.kernels.integrate import (
     quat_to_rot,
     run_steps,
 )
+from dem.kernels.interface_law import TOUCH
 from dem.scene import Assembly, Scene
 from dem.units import G
 
 logger = logging.getLogger(__name__)
-
-# The parallel node loop opens one OpenMP region per time step. Worker threads that spin
-# between regions (libgomp's default) starve on a shared machine: with 2 cores and 5 busy
-# processes a step took 3.2 times the serial one, with sleeping workers 1.05 times
-# (benchmarks/bench_explicit.py). An explicit setting of the user wins.
-os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 
 class ExplicitModel:
@@ -121,46 +116,10 @@ class ExplicitModel:
         self.shapes = _shapes(asm, settings)
         self.hulls = block_hulls(asm.blocks, self.bodies.ref_centroid)
         self.indenter_block = indenter_block
-        axis_xy = None
-        if indenter_block is not None:
-            if not 0 <= indenter_block < self.n_blocks or self.fixed[indenter_block]:
-                raise ValueError(f"indenter block {indenter_block} must be a free block")
-            axis_xy = (
-                self._top_centre(indenter_block)[:2]
-                if indenter_axis_xy is None
-                else np.asarray(indenter_axis_xy, dtype=float)
-            )
-            self._check_axis_hits(indenter_block, axis_xy)
-        self.indenter_axis_xy = axis_xy
-        ind_spacing = settings.indenter_node_spacing
-        if ind_spacing is None:
-            ind_spacing = min(
-                settings.node_spacing, INDENTER_NODES_PER_RADIUS_INV * indenter_radius
-            )
-        self.indenter_spacing = float(ind_spacing)
-        self.nodes: ContactNodes = seed_contact_nodes(
-            asm, self.fixed, settings.node_spacing, settings.margin, axis_xy,
-            indenter_radius, ind_spacing, settings.node_layout,
-        )  # fmt: skip
-        ref = self.bodies.ref_centroid
-        self.surface = Nodes(
-            self.nodes.block,
-            np.ascontiguousarray(self.nodes.point - ref[self.nodes.block]),
-            np.ascontiguousarray(self.nodes.normal),
-            self.nodes.area,
-            np.ascontiguousarray(self.nodes.weight),
-            np.ascontiguousarray(self.nodes.patch_centre - ref[self.nodes.block]),
-            np.ascontiguousarray(self.nodes.patch_u),
-            np.ascontiguousarray(self.nodes.patch_v),
-        )
-        k = len(self.nodes.indenter_block)
-        self.indenter = Indenter(
-            False, self.nodes.indenter_block,
-            np.ascontiguousarray(self.nodes.indenter_point - ref[self.nodes.indenter_block]),
-            self.nodes.indenter_area, np.zeros(3), 0.0, float(indenter_radius), np.zeros(3),
-            float(settings.k_n), np.zeros((k, 3)),
-        )  # fmt: skip
+        self.indenter_axis_xy = self._indenter_axis(indenter_block, indenter_axis_xy)
+        self._seed_nodes(indenter_radius)
         n = self.n_blocks
+        ref = self.bodies.ref_centroid
         quat = np.zeros((n, 4))
         quat[:, 0] = 1.0
         motion = Motion(ref.copy(), quat, np.zeros((n, 3)), np.zeros((n, 3)))
@@ -170,27 +129,78 @@ class ExplicitModel:
         self._new_scratch()
         self.rebuild()
         self.state.n_rebuilds = 0
-        with_indenter = indenter_radius > 0 and indenter_block is not None
+        self._choose_step(with_indenter=indenter_radius > 0 and indenter_block is not None)
+        self.parallel = (
+            settings.parallel
+            if settings.parallel is not None
+            else (self.n_entries >= PARALLEL_MIN_ENTRIES and (os.cpu_count() or 1) > 1)
+        )
+
+    def _indenter_axis(self, block: int | None, axis_xy) -> np.ndarray | None:
+        """``(x, y)`` of the indenter's path [m] (default the centre of ``block``'s top
+        face), checked to pass over that free block; None without an indenter block."""
+        if block is None:
+            return None
+        if not 0 <= block < self.n_blocks or self.fixed[block]:
+            raise ValueError(f"indenter block {block} must be a free block")
+        axis = self._top_centre(block)[:2] if axis_xy is None else np.asarray(axis_xy, dtype=float)
+        self._check_axis_hits(block, axis)
+        return axis
+
+    def _seed_nodes(self, indenter_radius: float) -> None:
+        """Seed the contact nodes (``nodes``), the kernels' surface nodes relative to the
+        centroids (``surface``) and the indenter (``indenter``, inactive)."""
+        settings, ref = self.settings, self.bodies.ref_centroid
+        ind_spacing = settings.indenter_node_spacing
+        if ind_spacing is None:
+            ind_spacing = min(
+                settings.node_spacing, INDENTER_NODES_PER_RADIUS_INV * indenter_radius
+            )
+        self.indenter_spacing = float(ind_spacing)
+        self.nodes: ContactNodes = seed_contact_nodes(
+            self.scene.assembly, self.fixed, settings.node_spacing, settings.margin,
+            self.indenter_axis_xy, indenter_radius, ind_spacing, settings.node_layout,
+        )  # fmt: skip
+        nodes = self.nodes
+        self.surface = Nodes(
+            nodes.block,
+            np.ascontiguousarray(nodes.point - ref[nodes.block]),
+            np.ascontiguousarray(nodes.normal),
+            nodes.area,
+            np.ascontiguousarray(nodes.weight),
+            np.ascontiguousarray(nodes.patch_centre - ref[nodes.block]),
+            np.ascontiguousarray(nodes.patch_u),
+            np.ascontiguousarray(nodes.patch_v),
+        )
+        k = len(nodes.indenter_block)
+        self.indenter = Indenter(
+            False, nodes.indenter_block,
+            np.ascontiguousarray(nodes.indenter_point - ref[nodes.indenter_block]),
+            nodes.indenter_area, np.zeros(3), 0.0, float(indenter_radius), np.zeros(3),
+            float(settings.k_n), np.zeros((k, 3)),
+        )  # fmt: skip
+
+    def _choose_step(self, with_indenter: bool) -> None:
+        """The highest frequency of the initial contacts (``with_indenter``: and of the
+        indenter's), the time step and damping rates, and the contact law."""
+        settings = self.settings
         self.omega_max = highest_frequency(
-            self.bodies, self.surface, self.state.contacts, motion.pos, settings.k_n,
-            settings.k_t, self.indenter if with_indenter else None,
+            self.bodies, self.surface, self.state.contacts, self.state.motion.pos,
+            settings.k_n, settings.k_t, self.indenter if with_indenter else None,
         )  # fmt: skip
         step = choose_time_step(self.omega_max, settings)
         self.dt, self.dt_critical = step["dt"], step["dt_critical"]
         self.alpha, self.beta = step["alpha"], step["beta"]
         self._check_damping(self.alpha, "ExplicitSettings.global_damping")
+        vertices = self.scene.assembly.arrays.vertices
         self.law = Law(
             float(settings.k_n), float(settings.k_t), self.beta,
             MU_RULE_MIN if settings.mu_rule == "min" else MU_RULE_MEAN,
             math.cos(math.radians(FACE_ANGLE_DEG)) if settings.contact_plane == "compatible"
             else 2.0,
             float(settings.margin),
+            TOUCH * float(np.ptp(vertices, axis=0).max()),
         )  # fmt: skip
-        self.parallel = (
-            settings.parallel
-            if settings.parallel is not None
-            else (self.n_entries >= PARALLEL_MIN_ENTRIES and (os.cpu_count() or 1) > 1)
-        )
 
     # -- views of the state --------------------------------------------------------------------
     @property

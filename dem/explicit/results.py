@@ -50,6 +50,11 @@ class IndentationResult:
         records (see :meth:`dem.explicit.ExplicitModel.check_indenter`);
         ``delta_first_contact`` [m]: the first recorded travel with a positive load (NaN if
         none; see :mod:`dem.explicit.indentation`).
+    estimates : dict
+        ``"peak_load"``, ``"deflection_at_peak"``, ``"loading_energy"``,
+        ``"ultimate_deflection"`` -> :class:`~dem.estimate.Estimate` of that number (SI) with
+        its error bar (:mod:`dem.explicit.indentation_error`; unknown bars under the error
+        budget ``"none"``).
     """
 
     delta: np.ndarray
@@ -69,6 +74,7 @@ class IndentationResult:
     snapshots: list = field(default_factory=list)
     peak_state: dict = field(default_factory=dict)
     info: dict = field(default_factory=dict)
+    estimates: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

@@ -50,8 +50,8 @@ class ExplicitSettings:
     node_layout : {"centroid", "vertex"}
         One node at the centroid of each grid cell clipped to the face (midpoint rule;
         default), or nodes at the cell corners with equal shares of the cells' areas
-        (trapezoidal rule, nodes on the face edges). On the 5 x 5 panel the centroid layout
-        converges monotonically in the peak load, the vertex layout does not.
+        (trapezoidal rule, nodes on the face edges). The default is the layout whose peak
+        load converges monotonically with the spacing.
     contact_plane : {"nearest", "compatible"}
         With face planes: penetration and normal from the nearest plane of the neighbour (the
         exact convex signed distance; default), or from the nearest plane among the
@@ -65,8 +65,7 @@ class ExplicitSettings:
         Exact face planes of the convex blocks (default) or trilinear level-set grids.
     level_set_spacing : float
         Level-set grid spacing [m]; default 0.1 mm (seed 000 used 0.025 mm; memory grows as
-        ``(block size / spacing)^3``: the 49 blocks of the 5 x 5 panel need about 5 GB at
-        0.025 mm, 100 MB at 0.1 mm).
+        ``(block size / spacing)^3`` per block).
     dt : float or None
         Time step [s]; None: ``dt_safety`` times the stable limit. A forced ``dt`` above the
         stable limit raises ``ValueError``.
@@ -89,8 +88,8 @@ class ExplicitSettings:
     parallel : bool or None
         Evaluate contact entries in parallel (``prange`` over chunks of entries); None: when
         there are at least ``PARALLEL_MIN_ENTRIES`` entries and more than one core. Default
-        False: on the shared 2-core machine the threads lose to the serial loop (see
-        ``benchmarks/bench_explicit.py``).
+        False (serial: the threads pay only with free cores; ``benchmarks/bench_explicit.py``
+        compares the two).
     chunk_steps : int
         Steps per call of the compiled loop (checkpoints fall on chunk ends); default 200.
     progress_every_s : float
@@ -189,8 +188,8 @@ class RelaxationSettings:
         Local (non-viscous) damping coefficient in [0, 1) during relaxation (None: the solver's
         value, :attr:`ExplicitSettings.local_damping`). With ``global_damping=0`` a block that
         still has to drop into place falls at ``1 - local_damping`` of its free acceleration,
-        where the viscous damping of the default lets it sink at ``g / alpha`` (4e-5 m/s on a
-        5 x 5 TIS panel): slow enough to pass for rest.
+        where the viscous damping of the default lets it sink at ``g / alpha``, slow enough to
+        pass for rest.
     require_convergence : bool
         Raise when ``max_steps`` pass without meeting the tolerance (default); otherwise log a
         warning and go on (a panel without interlock, theta = 0, never comes to rest). The

@@ -138,6 +138,9 @@ class Law(NamedTuple):
         above 1: off (nearest plane).
     margin : float
         Neighbour-list margin [m].
+    touch : float
+        Touching depth [m]: the part of a penetration within it carries no friction
+        (:mod:`dem.kernels.contact_force`).
     """
 
     k_n: float
@@ -146,6 +149,7 @@ class Law(NamedTuple):
     mu_rule: int
     compat_cos: float
     margin: float
+    touch: float
 
 
 class Motion(NamedTuple):

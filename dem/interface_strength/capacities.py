@@ -12,6 +12,8 @@ closed-form torsion coefficient of a rectangle ``c_T`` [m] (seed 001, Eq. (11)).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 
@@ -198,8 +200,8 @@ def shear_strength(
     """Shear strength along the direction ``angle`` with no torsion applied [N].
 
     A uniform translation makes every spring slide in the same direction, so the strength is
-    ``sum r_i = mu (f_t - N)`` for any angle (seed 001, Eq. (10); 168 N for the seed's
-    interface).
+    ``sum r_i = mu (f_t - N)`` for any angle (seed 001, Eq. (10)), with ``f_t = sigma_t A`` the
+    tensile capacity of the interface and ``N`` the normal force (negative in compression).
 
     Parameters
     ----------
@@ -286,58 +288,10 @@ def torsion_section(
     pos = interface.positions
     size = float(np.max(np.ptp(pos, axis=0))) + float(np.sqrt(interface.area))
     eps = 1e-9 * size
-    # initial guess: a twist centre on the normal to the shear, further out for larger shear
-    shat = s / f_u
-    with np.errstate(divide="ignore", invalid="ignore"):
-        e = np.where(s[:, None] > 0, f_target / np.where(s > 0, s, 1.0)[:, None], 0.0)
-    dist = size * shat / (1.0 - shat)
-    v = e * dist[:, None] + interface.centroid[None, ::-1] * np.array([1.0, -1.0])
+    v = _initial_points(interface, f_target, s, f_u, size)
     m = f_target.shape[0]
-
-    def phi_grad_hess(vv, ft):
-        w = np.hstack([vv, np.ones((vv.shape[0], 1))])
-        h, f1, f2, _, u1, u2, norm = _support(pos, caps, w, eps)
-        phi = h - np.einsum("ij,ij->i", vv, ft)
-        g = np.column_stack([f1, f2]) - ft
-        k = caps[None, :] / norm
-        h11 = (k * (1.0 - u1 * u1)).sum(1)
-        h22 = (k * (1.0 - u2 * u2)).sum(1)
-        h12 = -(k * u1 * u2).sum(1)
-        return phi, g, h11, h12, h22
-
-    gnorm = np.full(m, np.inf)
-    todo = np.arange(m)
-    for _ in range(max_iter):
-        vt, ft = v[todo], f_target[todo]
-        phi, g, h11, h12, h22 = phi_grad_hess(vt, ft)
-        gnorm[todo] = np.hypot(g[:, 0], g[:, 1])
-        keep = gnorm[todo] > tol * f_u
-        todo, vt, ft, phi, g = todo[keep], vt[keep], ft[keep], phi[keep], g[keep]
-        h11, h12, h22 = h11[keep], h12[keep], h22[keep]
-        if todo.size == 0:
-            break
-        det = h11 * h22 - h12 * h12
-        det = np.where(det > 0, det, np.finfo(float).tiny)
-        step = -np.column_stack([h22 * g[:, 0] - h12 * g[:, 1], h11 * g[:, 1] - h12 * g[:, 0]])
-        step /= det[:, None]
-        slope = np.einsum("ij,ij->i", g, step)
-        t = np.ones(todo.size)
-        ok = np.zeros(todo.size, dtype=bool)
-        for _ in range(40):
-            trial = ~ok
-            phi_new = phi_grad_hess(vt[trial] + t[trial, None] * step[trial], ft[trial])[0]
-            ok[trial] = phi_new <= (
-                phi[trial] + 1e-4 * t[trial] * slope[trial] + 1e-15 * np.abs(phi[trial])
-            )
-            if ok.all():
-                break
-            t = np.where(ok, t, 0.5 * t)
-        # points whose line search fails have stagnated at round-off (kinks of h at the
-        # springs): they are frozen and judged on their residual below
-        v[todo[ok]] = vt[ok] + t[ok, None] * step[ok]
-        todo = todo[ok]
-        if todo.size == 0:
-            break
+    dual = partial(_dual_terms, pos, caps, eps)
+    gnorm = _minimise_dual(dual, v, f_target, tol * f_u, max_iter)
     # a residual g means the point found is the exact boundary point for the shear f + g
     if gnorm.max() > max_residual * f_u:
         raise InterfaceStrengthError(
@@ -348,6 +302,84 @@ def torsion_section(
     _, f1, f2, m3, *_ = _support(pos, caps, w, eps)
     centres = np.column_stack([-v[:, 1], v[:, 0]])
     return m3, centres, np.column_stack([f1, f2])
+
+
+def _initial_points(interface, f_target, s, f_u, size) -> np.ndarray:
+    """Newton's start ``v`` (m, 2) for the shears ``f_target`` (m, 2) [N] of magnitude ``s``:
+    a twist centre on the normal to the shear through the centroid, further out [m] (relative
+    to the interface ``size``) the nearer the shear is to the strength ``f_u``."""
+    shat = s / f_u
+    with np.errstate(divide="ignore", invalid="ignore"):
+        e = np.where(s[:, None] > 0, f_target / np.where(s > 0, s, 1.0)[:, None], 0.0)
+    dist = size * shat / (1.0 - shat)
+    return e * dist[:, None] + interface.centroid[None, ::-1] * np.array([1.0, -1.0])
+
+
+def _dual_terms(
+    positions: np.ndarray, caps: np.ndarray, eps: float, vv: np.ndarray, ft: np.ndarray
+):
+    r"""The dual function of :func:`torsion_section`, :math:`\phi(v) = h(v, 1) - f \cdot v`,
+    at the points ``vv`` (k, 2) for the shears ``ft`` (k, 2) [N]: ``(phi, g, h11, h12, h22)``,
+    with ``g`` its gradient (the shear residual [N]) and the three entries of its Hessian."""
+    w = np.hstack([vv, np.ones((vv.shape[0], 1))])
+    h, f1, f2, _, u1, u2, norm = _support(positions, caps, w, eps)
+    phi = h - np.einsum("ij,ij->i", vv, ft)
+    g = np.column_stack([f1, f2]) - ft
+    k = caps[None, :] / norm
+    h11 = (k * (1.0 - u1 * u1)).sum(1)
+    h22 = (k * (1.0 - u2 * u2)).sum(1)
+    h12 = -(k * u1 * u2).sum(1)
+    return phi, g, h11, h12, h22
+
+
+def _minimise_dual(
+    dual: Callable, v: np.ndarray, f_target: np.ndarray, gtol: float, max_iter: int
+) -> np.ndarray:
+    """Batched Newton with backtracking on ``dual`` from ``v`` (m, 2), updated in place, until
+    each shear residual is at most ``gtol`` [N] (``dual(vv, ft)`` is :func:`_dual_terms` bound to
+    the springs); returns the last residual norm of each point.
+
+    A point whose line search fails has stagnated at round-off (kinks of ``h`` at the springs):
+    it is frozen, and the caller judges its residual.
+    """
+    gnorm = np.full(f_target.shape[0], np.inf)
+    todo = np.arange(f_target.shape[0])
+    for _ in range(max_iter):
+        vt, ft = v[todo], f_target[todo]
+        phi, g, h11, h12, h22 = dual(vt, ft)
+        gnorm[todo] = np.hypot(g[:, 0], g[:, 1])
+        keep = gnorm[todo] > gtol
+        todo, vt, ft, phi, g = todo[keep], vt[keep], ft[keep], phi[keep], g[keep]
+        h11, h12, h22 = h11[keep], h12[keep], h22[keep]
+        if todo.size == 0:
+            break
+        det = h11 * h22 - h12 * h12
+        det = np.where(det > 0, det, np.finfo(float).tiny)
+        step = -np.column_stack([h22 * g[:, 0] - h12 * g[:, 1], h11 * g[:, 1] - h12 * g[:, 0]])
+        step /= det[:, None]
+        ok, t = _backtrack(dual, vt, ft, phi, np.einsum("ij,ij->i", g, step), step)
+        v[todo[ok]] = vt[ok] + t[ok, None] * step[ok]
+        todo = todo[ok]
+        if todo.size == 0:
+            break
+    return gnorm
+
+
+def _backtrack(dual, vt, ft, phi, slope, step) -> tuple[np.ndarray, np.ndarray]:
+    """Armijo backtracking along ``step`` (k, 2), at most 40 halvings: whether each point found
+    a decrease, and its step length."""
+    t = np.ones(len(vt))
+    ok = np.zeros(len(vt), dtype=bool)
+    for _ in range(40):
+        trial = ~ok
+        phi_new = dual(vt[trial] + t[trial, None] * step[trial], ft[trial])[0]
+        ok[trial] = phi_new <= (
+            phi[trial] + 1e-4 * t[trial] * slope[trial] + 1e-15 * np.abs(phi[trial])
+        )
+        if ok.all():
+            break
+        t = np.where(ok, t, 0.5 * t)
+    return ok, t
 
 
 def torsion_strength(

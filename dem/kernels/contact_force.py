@@ -14,8 +14,17 @@ force on block ``a`` at ``x`` is (``-F`` acts on ``b`` at the same point)::
 - ``beta`` [s] is a stiffness-proportional normal dashpot (``beta = 2 zeta / omega_max``).
 - ``s`` (3,) [m] is the node's elastic shear displacement history relative to ``b``: each step it
   is rotated into the current tangent plane (length kept), incremented by the tangential
-  relative velocity times ``dt`` and capped so that ``k_t |s| <= mu sigma`` (seed 000 Eq. (1),
-  no static/kinetic distinction). ``k_t`` [Pa/m] is a shear traction per displacement.
+  relative velocity times ``dt`` and capped so that ``k_t |s| <= mu max(0, sigma - k_n
+  touch)`` (seed 000 Eq. (1), no static/kinetic distinction). ``k_t`` [Pa/m] is a shear
+  traction per displacement.
+- ``touch`` [m] is the touching depth (``law.touch``, ``TOUCH`` times the model's extent, as
+  in the static interface laws, :mod:`dem.kernels.interface_law`): the part of a penetration
+  within it carries no friction. Faces that conform at zero gap (vertical TIS faces at theta
+  = 0, masonry joints) touch at depths of round-off size (1e-19 m) whose signs and sizes
+  follow the arithmetic, not the geometry; the friction they would carry is a seed that a
+  friction-driven instability (a block sliding in a slot without clearance) amplifies, so
+  that the outcome would be decided by round-off. The friction cap stays continuous in the
+  depth.
 
 The per-item law is :func:`traction_one` (scalars only); :func:`contact_entries` evaluates a
 range of entries, writes only their rows and adds their wrenches to the block forces and
@@ -44,12 +53,10 @@ Level sets are not a distance bound: no skipping there.
 
 The helpers of the entry loop take and return scalars and tuples of scalars, inlined
 (``inline="always"``; :func:`_run_frame`, once per run of entries, reads arrays); the plane
-choice and the writes into the entry arrays stay in
-:func:`contact_entries`: a helper taking the face arrays there, inlined or not, brought back
-numba's reference counting and made the loop two to three times slower (numba 0.68,
-``benchmarks/bench_explicit.py``), and the loop over one run's entries as a function of its
-own cost about 0.5 us per run (serial step at 0.5 mm node spacing 12.5 -> 16.7 ns/node), so
-:func:`contact_entries` is longer than a screen.
+choice and the writes into the entry arrays stay in :func:`contact_entries`: numba
+reference-counts the arrays passed to a helper in the loop, inlined or not, and the loop over
+one run's entries as a function of its own adds a call per run, so :func:`contact_entries`
+is longer than a screen (the costs are measured with ``benchmarks/bench_explicit.py``).
 """
 
 import math
@@ -88,9 +95,9 @@ def traction_one(depth, normal, v_rel, shear, law, dt):
         Velocity of the node's material point relative to the neighbour's [m/s].
     shear : (float, float, float)
         Shear history at the start of the step [m].
-    law : (float, float, float, float)
-        ``(k_n, k_t, mu, beta)``: penalties [Pa/m], friction coefficient [-], normal
-        dashpot [s].
+    law : (float, float, float, float, float)
+        ``(k_n, k_t, mu, beta, touch)``: penalties [Pa/m], friction coefficient [-], normal
+        dashpot [s], touching depth without friction [m] (module docstring).
     dt : float
         Time step [s].
 
@@ -104,7 +111,7 @@ def traction_one(depth, normal, v_rel, shear, law, dt):
     n0, n1, n2 = normal
     vr0, vr1, vr2 = v_rel
     s0, s1, s2 = shear
-    k_n, k_t, mu, beta = law
+    k_n, k_t, mu, beta, touch = law
     vn = vr0 * n0 + vr1 * n1 + vr2 * n2
     # penetration rate is -vn (a's point moving against n goes deeper into b)
     sigma = k_n * (depth - beta * vn)
@@ -129,7 +136,9 @@ def traction_one(depth, normal, v_rel, shear, law, dt):
         s0 += (vr0 - vn * n0) * dt
         s1 += (vr1 - vn * n1) * dt
         s2 += (vr2 - vn * n2) * dt
-        cap = mu * sigma
+        cap = mu * (sigma - k_n * touch)
+        if cap < 0.0:
+            cap = 0.0
         trial2 = k_t * k_t * (s0 * s0 + s1 * s1 + s2 * s2)
         if trial2 > cap * cap:
             scale = cap / math.sqrt(trial2)
@@ -205,39 +214,19 @@ def pair_frames(motion, rot, bodies, shapes, pairs):
 
 @njit(cache=True)
 def contact_entries(e_begin, e_end, model, state, dt, scratch, pairs, record, sums):
-    """Forces of entries ``e_begin:e_end``: updates their shear and adds their wrenches to the
-    sums of their pairs.
+    """Forces of entries ``e_begin:e_end`` [N]: updates their shear history ``contacts.shear``
+    (m, 3) [m] and adds, in entry order, their forces on ``a`` [N] and moments about ``c_a``
+    [N m] to ``sums`` (p, 6), per pair (:func:`pair_wrenches` makes block wrenches of them).
 
-    Parameters
-    ----------
-    e_begin, e_end : int
-        Range of entries.
-    model : (Nodes, Bodies, Shapes, Law)
-        The model's constants (:mod:`dem.explicit.state`): surface nodes (``r0`` [m], ``n0``,
-        ``area`` [m^2]), ``block_mu`` (the pair's coefficient by ``law.mu_rule``), level-set
-        grids (``use_level_set``; the face planes come through ``pairs``) and the law
-        (``k_n``, ``k_t`` [Pa/m], ``beta`` [s], ``margin`` [m], ``compat_cos``: the plane
-        choice, see the module docstring).
-    state : (Contacts, Motion)
-        The entries (``node``, ``weight``) with their shear history ``shear`` (m, 3) [m],
-        updated in place, and the block poses (``pos`` [m], for the recorded points).
-    dt : float
-        Time step [s].
-    scratch : Scratch
-        ``rot`` (n, 3, 3) rotations of the current poses (input); ``out_depth`` (m,):
-        penetration ``d`` [m] (negative: separation, lower bound); ``skip_gap``,
-        ``skip_drift`` (m,) and ``drift`` (n,) [m]: skipping of separated entries (module
-        docstring).
-    pairs : PairFrames
-        The entries' block pairs with the frames of :func:`pair_frames`; the entries are
-        handled run by run (``run_ptr``), a range may start and end inside a run.
-    record : bool
-        Also write ``scratch.out_force`` (m, 3) (force on the node's block [N]) and
-        ``scratch.out_point`` (m, 3) (the node [m]) of every evaluated entry.
-    sums : (p, 6) float64
-        Accumulated in place, in entry order: per pair, the forces of its entries on ``a``
-        [N] and their moments about ``c_a`` [N m] (:func:`pair_wrenches` turns them into
-        block wrenches).
+    ``model = (nodes, bodies, shapes, law)`` and ``state = (contacts, motion)`` as in
+    :mod:`dem.explicit.state`; ``dt`` [s]; ``pairs`` the entries' block pairs with the frames
+    of :func:`pair_frames`, handled run by run (``run_ptr``; a range may start and end inside
+    a run). ``scratch``: ``rot`` (n, 3, 3) the current rotations (input); written:
+    ``out_depth`` (m,) the penetration [m] (negative: separation, a lower bound), and the
+    skipping of separated entries (``skip_gap``, ``skip_drift`` (m,), ``drift`` (n,) [m],
+    module docstring); with ``record`` also ``out_force`` (m, 3), the force on the node's
+    block [N], and ``out_point`` (m, 3), the node [m], of every evaluated entry. The plane
+    choice stays in this function (module docstring).
     """
     nodes, bodies, shapes, law = model
     contacts, motion = state
@@ -328,7 +317,7 @@ def _run_frame(q, pairs, rot, drift, bodies, law):
     """Data of pair ``q`` shared by its entries: blocks ``a``, ``b``; its face rows
     ``(begin, end)``; ``drift[a] + drift[b]`` [m]; ``a``'s rotation (rows); ``(v, w)``, the
     pair's relative velocity [m/s] and angular velocity [rad/s] (:func:`pair_frames`); the
-    law's scalars ``(k_n, k_t, mu, beta)`` with the pair's friction coefficient."""
+    law's scalars ``(k_n, k_t, mu, beta, touch)`` with the pair's friction coefficient."""
     a, b = pairs.a[q], pairs.b[q]
     rot_a = (
         (rot[a, 0, 0], rot[a, 0, 1], rot[a, 0, 2]),
@@ -339,7 +328,8 @@ def _run_frame(q, pairs, rot, drift, bodies, law):
     w = (pairs.omega[q, 0], pairs.omega[q, 1], pairs.omega[q, 2])
     mu = pair_mu(bodies.block_mu[a], bodies.block_mu[b], law.mu_rule)
     faces = (pairs.face_ptr[q], pairs.face_ptr[q + 1])
-    return a, b, faces, drift[a] + drift[b], rot_a, (v, w), (law.k_n, law.k_t, mu, law.beta)
+    law_q = (law.k_n, law.k_t, mu, law.beta, law.touch)
+    return a, b, faces, drift[a] + drift[b], rot_a, (v, w), law_q
 
 
 @njit(cache=True, inline="always")
@@ -358,7 +348,7 @@ def _node_force(depth, n, r, vw, shear, law_q, dt, area):
 
     ``depth`` [m], normal ``n`` and ``shear`` [m] as :func:`traction_one`; ``r`` the node
     relative to ``c_a`` [m]; ``vw = (v, w)`` the pair's relative velocity [m/s] and angular
-    velocity [rad/s]; ``law_q = (k_n, k_t, mu, beta)``; ``area`` the node's weighted area
+    velocity [rad/s]; ``law_q = (k_n, k_t, mu, beta, touch)``; ``area`` the node's weighted area
     [m^2]."""
     v, w = vw
     # relative velocity of a's material point against b's material point at x

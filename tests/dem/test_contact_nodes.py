@@ -122,7 +122,7 @@ def test_traction_law_stick_slip_closed_form():
     n = (0.0, 0.0, 1.0)
     # stick: sliding speed v for one step gives s = v dt
     v = 1e-2
-    law = (k_n, k_t, mu, 0.0)
+    law = (k_n, k_t, mu, 0.0, 0.0)
     t, _ = traction_one(d, n, (v, 0.0, 0.0), (0.0, 0.0, 0.0), law, dt)
     np.testing.assert_allclose(t, [-k_t * v * dt, 0.0, k_n * d])
     # slip: a large step is capped at mu sigma, along the slip
@@ -134,11 +134,11 @@ def test_traction_law_stick_slip_closed_form():
     s = np.array([1e-7, 0.0, 0.0])
     tilt = math.radians(10)
     n2 = (math.sin(tilt), 0.0, math.cos(tilt))
-    _, r = traction_one(d, n2, (0.0, 0.0, 0.0), tuple(s), (k_n, k_t, 10.0, 0.0), dt)
+    _, r = traction_one(d, n2, (0.0, 0.0, 0.0), tuple(s), (k_n, k_t, 10.0, 0.0, 0.0), dt)
     np.testing.assert_allclose(np.linalg.norm(r), 1e-7, rtol=1e-12)
     np.testing.assert_allclose(np.dot(r, n2), 0.0, atol=1e-20)
     # separation-free rate damping never pulls: sigma clipped at 0
-    t, _ = traction_one(d, n, (0.0, 0.0, 1e3), (0.0, 0.0, 0.0), (k_n, k_t, mu, 1e-6), dt)
+    t, _ = traction_one(d, n, (0.0, 0.0, 1e3), (0.0, 0.0, 0.0), (k_n, k_t, mu, 1e-6, 0.0), dt)
     assert t[2] == 0.0
 
 
@@ -217,3 +217,18 @@ def test_a_face_grid_beyond_the_cell_limit_is_refused():
     square = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.1, 0.1, 0.0], [0.0, 0.1, 0.0]])
     with pytest.raises(ValueError, match=r"node spacing 1e-05 m gives 1e\+08 grid cells"):
         seed_face(square, np.array([0.0, 0.0, 1.0]), 1e-5)
+
+
+def test_traction_law_touching_depth_carries_no_friction():
+    """The part of a penetration within the touching depth carries no friction: a depth of
+    round-off size gives its normal penalty and no shear; a real depth ``d`` slips at
+    ``mu k_n (d - touch)`` (module docstring of :mod:`dem.kernels.contact_force`)."""
+    k_n, k_t, mu, dt, touch = 1e12, 5e11, 0.3, 1e-6, 1e-14
+    n = (0.0, 0.0, 1.0)
+    law = (k_n, k_t, mu, 0.0, touch)
+    t, s = traction_one(1e-19, n, (10.0, 0.0, 0.0), (0.0, 0.0, 0.0), law, dt)
+    np.testing.assert_array_equal([t[0], t[1], *s], 0.0)
+    np.testing.assert_allclose(t[2], k_n * 1e-19)
+    d = 1e-9
+    t, _ = traction_one(d, n, (10.0, 0.0, 0.0), (0.0, 0.0, 0.0), law, dt)
+    np.testing.assert_allclose([t[0], t[2]], [-mu * k_n * (d - touch), k_n * d], rtol=1e-14)

@@ -9,6 +9,7 @@ from limit import LimitSettings, bounds_and_estimates, limit_analysis
 from limit.clarabel import solve_static, static_certificate
 from limit.lambda_error import iteration_tail, outer_polygon_factor, solver_estimate
 from limit.problems import build_static_problem
+from limit.solve import polygon_bracket
 from tests.limit._scenes import block_on_ground, torsion_pair
 from tests.limit.test_closed_forms import _sliding_block
 
@@ -62,8 +63,9 @@ def test_no_certificate_is_an_unknown_error_not_zero():
 @pytest.mark.parametrize("sides", [4, 8])
 def test_friction_polygon_bar_holds_the_exact_cone(theta_deg, sides):
     """A flat block sliding under its weight at ``theta`` carries exactly mu with the cone;
-    the inscribed polygon gives less. Its bracket (cheap) and its measured error (full) both
-    hold mu; the full bar is the true error to the solver's tolerance."""
+    the inscribed polygon gives less. Both budgets measure the polygon's error against the
+    exact cones: the bar is the true error to the solver's tolerance. The outer polygon's
+    bracket (the fallback) holds mu too, within the outer polygon's excess."""
     mu = 0.5
     scene = _sliding_block(np.radians(theta_deg), mu)
     settings = LimitSettings(friction_polygon=sides)
@@ -73,9 +75,11 @@ def test_friction_polygon_bar_holds_the_exact_cone(theta_deg, sides):
     for est in (cheap, full):
         assert est.contains(mu)
         assert est.cost_s > 0
-    # the bracket's width is at most the outer polygon's excess over the inscribed one
-    assert cheap.error <= cheap.value * (outer_polygon_factor(sides) - 1) + 1e-7
-    assert full.error == pytest.approx(true, abs=1e-7)
+        assert est.error == pytest.approx(true, abs=1e-7)
+    sp_ = build_static_problem(scene, settings)
+    bracket = polygon_bracket(sp_, solve_static(sp_))
+    assert bracket.contains(mu)
+    assert bracket.error <= bracket.value * (outer_polygon_factor(sides) - 1) + 1e-7
 
 
 def test_iteration_tail_of_a_geometric_sequence_is_its_distance_to_the_limit():

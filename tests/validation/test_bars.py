@@ -66,3 +66,32 @@ def test_per_unit_scales_every_source_and_marks_a_missing_bar():
 def test_a_discrepancy_has_no_bar_of_its_own():
     assert math.isinf(diagnostic(1e-12).error)
     np.testing.assert_allclose(exact(0.5).value, 0.5)
+
+
+def test_sum_round_off_bounds_the_rounding_of_a_sum():
+    """2000 terms of magnitudes from 1e-6 to 1e6, summed left to right, differ from the exact
+    (rational) sum by less than n eps sum |x| (Higham Sec. 4.2)."""
+    from fractions import Fraction
+
+    import numpy as np
+
+    from validation.cases.bars import sum_round_off
+
+    x = np.random.default_rng(3).normal(size=2000) * 10.0 ** np.arange(-6, 6, 0.006)
+    total = 0.0
+    for v in x:
+        total += float(v)
+    exact = float(sum(Fraction(float(v)) for v in x))
+    assert abs(total - exact) <= sum_round_off(np.sum(np.abs(x)), len(x))
+    assert sum_round_off(np.sum(np.abs(x)), len(x)) > 0
+
+
+def test_residual_bar_contains_zero_only_within_the_bound():
+    import pytest
+
+    from validation.cases.bars import residual
+
+    assert residual(1e-12, 1e-10, "solver tolerance").contains(0.0)
+    assert not residual(1e-9, 1e-10, "solver tolerance").contains(0.0)
+    with pytest.raises(ValueError, match="bound"):
+        residual(0.0, float("inf"), "round-off")

@@ -277,7 +277,7 @@ def test_a_scheduler_that_cannot_be_used_is_one_line_naming_it(monkeypatch, capf
         raise OSError(f"Timed out trying to connect to {scheduler} after 20 s")
         yield
 
-    monkeypatch.setattr("validation.sweep.cases.open_executor", unreachable)
+    monkeypatch.setattr("validation.cluster.open_executor", unreachable)
     assert main(["run", "geometry", "--scheduler", "tcp://127.0.0.1:9"]) == 1
     err = capfd.readouterr().err
     assert err == (

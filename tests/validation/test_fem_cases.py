@@ -25,3 +25,18 @@ def test_fem_strip_prism_is_exact():
     r = strip_stiffness(0.0, 2.0e-3)
     assert abs(r["E_eff"] / YOUNG - 1.0) < 1e-10
     assert r["M"] == 6 and abs(r["length"] - 0.05) < 1e-15
+
+
+def test_a_vanishing_error_bar_holds_0_only_while_the_error_converges():
+    """Errors C h^p (p >= 0.5, the least order fem_check reads as convergence) have 0 in the
+    bar at every level; errors that level off at 0.01 above 0 do not."""
+    from validation.cases.fem import vanishing_error_bar, vanishing_error_bars
+
+    hs = [1.6e-3, 1.1e-3, 0.8e-3]
+    for p in (0.5, 1.0, 2.0):
+        errors = [0.3 * h**p for h in hs]
+        assert all(e.contains(0.0) for e in vanishing_error_bars(errors, hs, p))
+    stalled = [0.01 + 5.0 * h for h in hs]
+    assert not any(e.contains(0.0) for e in vanishing_error_bars(stalled, hs, 1.0))
+    assert vanishing_error_bar(0.01, 0.02, 1e-3, 2e-3).contains(0.0)  # halves: order 1
+    assert not vanishing_error_bar(0.01, 0.011, 1e-3, 2e-3).contains(0.0)

@@ -190,6 +190,33 @@ def test_a_reference_outside_the_bar_says_which_error_it_is():
     assert Row("n/a", None).ours_error is None and Row("n/a", None).error_sources == {}
 
 
+def test_a_bound_reference_is_an_inequality():
+    """A DEM multiplier far below an upper bound agrees with it (an equality test would call
+    it outside); one above it by more than both bars breaks it, and the table says on which
+    side of the bound ours lies."""
+    from dem.estimate import Estimate
+    from validation.report import _inside_cell
+
+    def upper(value, bar, bound, bound_bar=0.0):
+        return Row("lambda [-]", Estimate(value, {"step": bar}), bound, "limit analysis",
+                   reference_kind="upper bound", reference_error=bound_bar)  # fmt: skip
+
+    assert upper(0.39, 0.001, 0.79).reference_inside is True
+    assert _inside_cell(upper(0.39, 0.001, 0.79)) == "yes: below the bound"
+    assert upper(0.80, 0.001, 0.79).reference_inside is False
+    assert _inside_cell(upper(0.80, 0.001, 0.79)) == "no (numerical): above the bound"
+    assert upper(0.80, 0.005, 0.79, 0.006).reference_inside is True  # the bars overlap
+    assert upper(0.80, 0.005, 0.79, np.inf).reference_inside is None
+    lower = Row("p [-]", Estimate(0.5, {"step": 0.01}), 0.6, "frictionless lower bound",
+                reference_kind="lower bound")  # fmt: skip
+    assert lower.reference_inside is False and lower.error_kind == "numerical"
+    assert _inside_cell(lower) == "no (numerical): below the bound"
+    with pytest.raises(ValueError, match="reference_kind"):
+        Row("x", 1.0, 1.0, reference_kind="bound")
+    with pytest.raises(ValueError, match="reference_error"):
+        Row("x", 1.0, 1.0, reference_error=-1.0)
+
+
 def test_a_row_refuses_a_nan_value():
     with pytest.raises(ValueError, match="ours is NaN; give None"):
         Row("ultimate deflection [mm]", float("nan"))

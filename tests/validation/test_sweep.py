@@ -335,7 +335,7 @@ def test_a_sweep_inside_a_dask_task_uses_the_same_cluster(tmp_path, cluster):
 
 
 def test_cases_on_a_cluster_write_the_serial_results(tmp_path, cluster):
-    from validation.sweep.cases import run_cases_on_cluster
+    from validation.cluster import run_cases_on_cluster
 
     names = ["geometry", "limit-closed-forms"]
     address = cluster.scheduler.address

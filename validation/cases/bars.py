@@ -6,7 +6,12 @@
   difference, at least one machine epsilon of the value;
 - :func:`two_levels`: a value at the finer of two discretisation levels, with the difference
   to the coarser level as its bar (the finer level's error when the value converges
-  monotonically at order at least 1: :math:`|s_h - s_\\infty| \\le |s_h - s_{2h}|`).
+  monotonically at order at least 1: :math:`|s_h - s_\\infty| \\le |s_h - s_{2h}|`);
+- :func:`residual`: a residual whose exact value is 0 (an imbalance, a violation, a distance
+  to a closed form), with the bar its computation's own accuracy allows: the round-off of its
+  terms (:func:`sum_round_off`) or the tolerance it was solved to. The reference 0 lies in
+  that bar exactly when the residual is no larger than that accuracy, so the row is a check
+  that can fail.
 
 No bar here is a guess: each is computed from the case's own runs, or is zero by
 construction, or is :meth:`dem.estimate.Estimate.unknown`.
@@ -77,6 +82,26 @@ def proportion(count: int, n: int) -> Estimate:
     ci = binomtest(count, n).proportion_ci(confidence_level=0.95, method="wilson")
     half = max(ci.high - p, p - ci.low, 0.0)
     return Estimate(p, {"sampling": half}, notes=f"Wilson 95 % [{ci.low:.4g}, {ci.high:.4g}]")
+
+
+def sum_round_off(abs_terms, n_terms) -> float:
+    """Bound [unit of the terms] on the rounding of a sum of ``n_terms`` floats whose absolute
+    values add to ``abs_terms`` (either may be an array: the largest product counts):
+    :math:`\\gamma_n \\sum |x_i|` with :math:`\\gamma_n \\approx n\\,\\epsilon` (Higham,
+    *Accuracy and Stability of Numerical Algorithms*, 2nd ed., Sec. 4.2); ``n_terms`` should
+    count the operations that made each term too."""
+    bound = np.asarray(n_terms, dtype=float) * EPS * np.abs(np.asarray(abs_terms, dtype=float))
+    return float(np.max(bound, initial=0.0))
+
+
+def residual(value: float, bound: float, source: str, notes: str = "") -> Estimate:
+    """A residual whose exact value is 0, with the half-width ``bound`` (>= 0, same unit) named
+    ``source`` (``"round-off"`` for :func:`sum_round_off`, ``"solver tolerance"`` for the
+    tolerance the value was solved to; module notes)."""
+    bound = float(bound)
+    if not (math.isfinite(bound) and bound >= 0.0):
+        raise ValueError(f"residual bound must be finite and >= 0, got {bound!r}")
+    return Estimate(float(value), {source: bound}, notes=notes)
 
 
 def diagnostic(value: float) -> Estimate:

@@ -43,7 +43,7 @@ from dem.interface_strength import (
     torsion_strength_with_bending_closed_form,
     twist_centre_resultants,
 )
-from validation.cases.bars import round_off, two_levels
+from validation.cases.bars import residual, round_off, sum_round_off, two_levels
 from validation.report import Row, output_dir
 
 CASE = "interface-strength"
@@ -93,6 +93,30 @@ def _route(value: float, other: float, route: str) -> Estimate:
     return Estimate(float(value), {f"route ({route})": abs(value - other)})
 
 
+CLARABEL_TOL = 1e-8
+"""Clarabel's default gap and feasibility tolerances (absolute, and relative to the larger of
+1 and the objective), with which :func:`dem.interface_strength.max_torsion_socp` solves."""
+
+
+def _epp_round_off(interface, lever: bool = False) -> float:
+    """Round-off bound of a sum over the springs of an EPP resultant at the capacities [N, or
+    N m with ``lever``]: each spring adds its capacity (times its lever arm), with a few
+    operations for its components and the return to the cone."""
+    caps = shear_capacities(interface, LAW, NORMAL_FORCE)
+    arm = float(np.max(np.linalg.norm(interface.positions, axis=1))) if lever else 1.0
+    return sum_round_off(float(np.sum(caps)) * arm, 4 * len(caps))
+
+
+def _socp_bar(result, interface) -> float:
+    """Half-width [N m] of the SOCP's torsion around the programme's optimum: Clarabel's gap
+    tolerance on the objective, and the torsion the violated cones and shear balance can
+    add (each violation times the largest lever arm)."""
+    arm = float(np.max(np.linalg.norm(interface.positions, axis=1)))
+    n = len(interface.areas)
+    shifts = n * result.max_cone_violation + result.equality_residual
+    return CLARABEL_TOL * max(1.0, abs(result.torsion)) + shifts * arm
+
+
 def _grid(fn, fine_n: int = N_GRID, **kw) -> Estimate:
     """``fn(SpringInterface)`` on the ``fine_n`` grid, with the difference to the grid half as
     fine (source ``"grid"``)."""
@@ -135,7 +159,7 @@ def _shear_rows(curves: dict, quick: bool) -> list[Row]:
         ),
         Row(
             "shear domain: max abs(norm(f) - f_su) over EPP directions [N]",
-            dev,
+            residual(dev, _epp_round_off(interface), "round-off"),
             0.0,
             f"{SEED} Eq. (10): circle f1^2 + f2^2 = f_su^2",
             wall_epp,
@@ -173,7 +197,7 @@ def _torsion_rows(curves: dict, quick: bool) -> list[Row]:
         ),
         Row(
             "pure torsion strength by SOCP (Clarabel) [N m]",
-            socp.torsion,
+            Estimate(socp.torsion, {"solver tolerance": _socp_bar(socp, interface)}),
             m3u,
             "kinematic (exact)",
             wall_socp,
@@ -199,7 +223,9 @@ def _torsion_rows(curves: dict, quick: bool) -> list[Row]:
         ),
         Row(
             "EPP torsion - kinematic torsion, seed interface [N m]",
-            float(epp.resultants[-1, 5] - m3u),
+            residual(
+                float(epp.resultants[-1, 5] - m3u), _epp_round_off(interface, True), "round-off"
+            ),
             0.0,
             "exact (all springs slide)",
             wall_epp,
@@ -283,16 +309,17 @@ def _domain_seed_rows(curves: dict, quick: bool) -> list[Row]:
     wall_epp = time.perf_counter() - start
     start = time.perf_counter()
     picks = np.linspace(0, len(dom.shear) - 2, 4 if quick else 12).astype(int)
-    socp_diff, socp_status = 0.0, set()
+    socp_diff, socp_bar, socp_status = 0.0, 0.0, set()
     for j in picks:
         r = max_torsion_socp(interface, LAW, NORMAL_FORCE, tuple(dom.shear_vectors[j]))
         socp_diff = max(socp_diff, abs(r.torsion - dom.torsion[j]))
+        socp_bar = max(socp_bar, _socp_bar(r, interface))
         socp_status.add(r.status)
     wall_socp = time.perf_counter() - start
     return [
         Row(
             "m3-f1 domain, seed interface: EPP end points - kinematic, max [N, N m]",
-            float(max(diffs)),
+            residual(float(max(diffs)), _epp_round_off(interface), "round-off"),
             0.0,
             "exact kinematic boundary (twist centres)",
             wall_epp,
@@ -301,7 +328,7 @@ def _domain_seed_rows(curves: dict, quick: bool) -> list[Row]:
         ),
         Row(
             "m3-f1 domain, seed interface: SOCP - kinematic, max abs(dm3) [N m]",
-            socp_diff,
+            residual(socp_diff, socp_bar, "solver tolerance"),
             0.0,
             "exact kinematic boundary",
             wall_socp,

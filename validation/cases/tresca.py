@@ -16,10 +16,12 @@ import time
 
 import numpy as np
 
+from dem.estimate import Estimate
 from fem_check.rt_reconstruction import reconstruct_stress
 from limit.tresca import (
     TrescaSettings,
     admissibility_residuals,
+    cell_loads,
     facet_tractions,
     forces_from_uniform_stress,
     max_load_multiplier,
@@ -31,7 +33,8 @@ from limit.voronoi_packing import (
     verification_packing,
     voronoi_packing,
 )
-from validation.cases.bars import diagnostic, per_unit
+from validation.cases import tresca_bars as tb
+from validation.cases.bars import EPS, diagnostic, per_unit, residual
 from validation.report import Row, output_dir
 
 PRESSURE = 1.0  # imposed compression [Pa] (seed 003 Sec. 4.3, 4.5: sigma = -I on the boundary)
@@ -65,15 +68,19 @@ def _hom_packing(n_cells: int = HOM_CELLS):
 
 def _solve(packing, sigma_bc, s, solver, selection):
     traction = uniform_stress_traction(packing, sigma_bc)
-    res = solve_tresca(packing, traction, s, TrescaSettings(solver=solver, selection=selection))
+    res = solve_tresca(packing, traction, s, tb.solve_settings(solver, selection))
     return traction, res
 
 
-def _certificate_rows(tag: str, res, settings: dict) -> list[Row]:
+def _certificate_rows(tag: str, packing, res, settings: dict) -> list[Row]:
+    """The certificate of a solve as residuals, each with the tolerance it was solved to."""
+    tresca_settings = tb.solve_settings(res.solver, res.selection)
+    imbalance = tb.imbalance_tolerance(res, tresca_settings)
+    gap = tb.gap_tolerance(packing, res, tresca_settings)
     return [
         Row(
             f"{tag}: cell force imbalance / max cell load [-]",
-            diagnostic(res.equilibrium_residual),
+            residual(res.equilibrium_residual, imbalance, "solver tolerance"),
             0.0,
             SRC_CLOSED,
             res.wall_s,
@@ -81,13 +88,21 @@ def _certificate_rows(tag: str, res, settings: dict) -> list[Row]:
         ),
         Row(
             f"{tag}: duality gap [J/m]",
-            diagnostic(res.duality_gap),
+            residual(res.duality_gap, gap, "solver tolerance"),
             0.0,
             SRC_CLOSED,
             res.wall_s,
             settings,
         ),
     ]
+
+
+def _stress_estimate(value: float, bar: np.ndarray | None, unit: float = 1.0):
+    """``value`` [unit] of a max or min over edge stresses whose bars are ``bar`` [Pa] (a max
+    moves by at most the largest bar); the bare value without bars (a solver's own dual)."""
+    if bar is None:
+        return value
+    return Estimate(value, {"solver tolerance": float(np.max(bar)) / unit})
 
 
 def _bed_joint_rows(packing, res, settings: dict) -> list[Row]:
@@ -103,10 +118,11 @@ def _bed_joint_rows(packing, res, settings: dict) -> list[Row]:
         on = (np.abs(n[:, 1]) > 0.5) & np.isclose(packing.edge_midpoint[:, 1], y)
         force_on_upper = np.sign(n[on, 1])[:, None] * force_on_b[on]
         total = force_on_upper.sum(axis=0)
+        bar = {"equilibrium": tb.resultant_bar(packing, res, packing.centres[:, 1] > y) / width}
         rows += [
             Row(
                 f"brick wall bed joint {k}: mean compressive traction [Pa]",
-                total[1] / width,
+                Estimate(total[1] / width, bar),
                 PRESSURE,
                 "closed form (equilibrium of the wall above)",
                 res.wall_s,
@@ -114,7 +130,7 @@ def _bed_joint_rows(packing, res, settings: dict) -> list[Row]:
             ),
             Row(
                 f"brick wall bed joint {k}: mean shear traction [Pa]",
-                -total[0] / width,
+                Estimate(-total[0] / width, bar),
                 TAU_WALL,
                 "closed form (equilibrium of the wall above)",
                 res.wall_s,
@@ -165,11 +181,12 @@ def _verification_mesh_rows(name: str) -> list[Row]:
         _, res = _solve(packing, -PRESSURE * np.eye(2), S_VERIF, solver, selection)
         st = _settings(solver, selection, s_pa=S_VERIF, mesh=name)
         tag = f"{name} [{solver}/{selection}]"
+        bar = tb.stress_bar(packing, res, tb.solve_settings(solver, selection))
         if (solver, selection) == ("CLARABEL", "min_energy"):
             rows += [
                 Row(
                     f"{tag} edge {e} normal stress [Pa]",
-                    float(value),
+                    Estimate(float(value), {"solver tolerance": float(bar[e])}),
                     -PRESSURE,
                     "closed form (seed 003 Sec. 4.3)",
                     res.wall_s,
@@ -180,14 +197,14 @@ def _verification_mesh_rows(name: str) -> list[Row]:
         rows.append(
             Row(
                 f"{tag}: max_e |sigma_nn + p| [Pa]",
-                diagnostic(float(np.max(np.abs(res.normal_stress + PRESSURE)))),
+                _stress_estimate(float(np.max(np.abs(res.normal_stress + PRESSURE))), bar),
                 0.0,
                 "closed form (seed 003 Sec. 4.3)",
                 res.wall_s,
                 st,
             )
         )
-        rows += _certificate_rows(tag, res, st)
+        rows += _certificate_rows(tag, packing, res, st)
     return rows
 
 
@@ -199,17 +216,18 @@ def _brick_wall_rows(wall) -> list[Row]:
         st = _settings(solver, selection, s_pa=S_WALL, tau_pa=TAU_WALL, **WALL)
         if selection == "solver":
             rows += _bed_joint_rows(wall, res, st)
+        bar = tb.stress_bar(wall, res, tb.solve_settings(solver, selection))
         rows.append(
             Row(
                 f"brick wall [{solver}/{selection}]: max |shear| / s [-]",
-                float(np.max(np.abs(res.shear_stress))) / S_WALL,
+                _stress_estimate(float(np.max(np.abs(res.shear_stress))) / S_WALL, bar, S_WALL),
                 None,
                 "bounded by 1 (Tresca)",
                 res.wall_s,
                 st,
             )
         )
-        rows += _certificate_rows(f"brick wall [{solver}/{selection}]", res, st)
+        rows += _certificate_rows(f"brick wall [{solver}/{selection}]", wall, res, st)
     return rows
 
 
@@ -246,12 +264,20 @@ def _homogeneous_rows(hom) -> list[Row]:
     lam_u, ft_u = forces_from_uniform_stress(hom, sigma_c)
     start = time.perf_counter()
     eq_u, fr_u = admissibility_residuals(hom, traction, S_VERIF, lam_u, ft_u)
+    eq_bar = tb.uniform_round_off(hom, traction, lam_u, ft_u)
+    # the friction/sign violation compares |f_t| with s|e|: one rounding of the larger
+    fr_bar = (
+        float(np.max(S_VERIF * hom.edge_length))
+        * 2
+        * EPS
+        / np.max(np.linalg.norm(cell_loads(hom, traction), axis=1))
+    )
     st0 = {"n_cells": HOM_CELLS, "seed": HOM_SEED, "s_pa": S_VERIF}
     src_uniform = "seed 003 Sec. 4.5 (-I is admissible)"
     rows = [
         Row(
             "60 cells: uniform sigma=-I forces, cell imbalance [-]",
-            diagnostic(eq_u),
+            residual(eq_u, eq_bar, "round-off"),
             0.0,
             src_uniform,
             time.perf_counter() - start,
@@ -259,7 +285,7 @@ def _homogeneous_rows(hom) -> list[Row]:
         ),
         Row(
             "60 cells: uniform sigma=-I forces, Tresca/sign violation [-]",
-            diagnostic(max(fr_u, 0.0)),
+            residual(max(fr_u, 0.0), fr_bar, "round-off"),
             0.0,
             src_uniform,
             None,
@@ -271,10 +297,12 @@ def _homogeneous_rows(hom) -> list[Row]:
         st = _settings(solver, selection, **st0)
         tag = f"60 cells [{solver}/{selection}]"
         homog = selection == "min_energy"
+        bar = tb.stress_bar(hom, res, tb.solve_settings(solver, selection))
+        threshold = 1e-9 * PRESSURE * hom.edge_length
         rows += [
             Row(
                 f"{tag}: max_e |sigma_nn + p| [Pa]",
-                diagnostic(float(np.max(np.abs(res.normal_stress + PRESSURE)))),
+                _stress_estimate(float(np.max(np.abs(res.normal_stress + PRESSURE))), bar),
                 0.0 if homog else None,
                 SRC_CLOSED if homog else "seed 003 Sec. 4.5: not homogeneous",
                 res.wall_s,
@@ -282,7 +310,7 @@ def _homogeneous_rows(hom) -> list[Row]:
             ),
             Row(
                 f"{tag}: max_e |sigma_nn| / p [-]",
-                float(np.max(-res.normal_stress)) / PRESSURE,
+                _stress_estimate(float(np.max(-res.normal_stress)) / PRESSURE, bar, PRESSURE),
                 1.0 if homog else None,
                 SRC_CLOSED if homog else "seed 003 Sec. 4.5: exceeds 1 (concentration)",
                 res.wall_s,
@@ -290,15 +318,24 @@ def _homogeneous_rows(hom) -> list[Row]:
             ),
             Row(
                 f"{tag}: open contacts (lambda < 1e-9 p|e|) [-]",
-                float(np.sum(res.normal_force < 1e-9 * PRESSURE * hom.edge_length)),
+                _count_estimate(res.normal_force, threshold, bar, hom.edge_length),
                 None,
                 "",
                 res.wall_s,
                 st,
             ),
         ]
-        rows += _certificate_rows(tag, res, st)
+        rows += _certificate_rows(tag, hom, res, st)
     return rows
+
+
+def _count_estimate(forces, threshold, bar, edge_length):
+    """The number of ``forces < threshold`` [N/m], with the number whose bar (stress ``bar``
+    [Pa] times ``edge_length`` [m]) straddles the threshold as its half-width."""
+    count = float(np.sum(forces < threshold))
+    if bar is None:
+        return count
+    return Estimate(count, {"solver tolerance": tb.count_bar(forces, threshold, bar * edge_length)})
 
 
 def _large_packing_rows(n_cells: int) -> list[Row]:
@@ -312,17 +349,18 @@ def _large_packing_rows(n_cells: int) -> list[Row]:
         )
         tag = f"{n_cells} cells [{solver}/{selection}]"
         if selection == "min_energy":
+            bar = tb.stress_bar(big, res, tb.solve_settings(solver, selection))
             rows.append(
                 Row(
                     f"{tag}: max_e |sigma_nn + p| [Pa]",
-                    diagnostic(float(np.max(np.abs(res.normal_stress + PRESSURE)))),
+                    _stress_estimate(float(np.max(np.abs(res.normal_stress + PRESSURE))), bar),
                     0.0,
                     SRC_CLOSED,
                     res.wall_s,
                     st,
                 )
             )
-        rows += _certificate_rows(tag, res, st)
+        rows += _certificate_rows(tag, big, res, st)
     return rows
 
 
@@ -462,17 +500,18 @@ def _rt_rows(tag: str, scene: TrescaScene, case: RtCase, traction, res, st: dict
             return exact_value, case.exact_source
         return None, _PAPER.get(name, "") if name in case.paper else ""
 
+    widths = tb.stress_bar(packing, res, tb.solve_settings(res.solver, res.selection))
+    bars = _RtCheckBars(packing, rec, scale, widths)
     rows = [
-        # a check against 0 is a residual or a violation: a discrepancy, no bar of its own
-        Row(f"{tag}: {quantity}", _checked(value, reference[0]), *reference, rec.wall_s, st)
-        for quantity, value, reference in _rt_checks(packing, rec, scale, ref)
+        Row(f"{tag}: {quantity}", _checked(value, reference[0], bar), *reference, rec.wall_s, st)
+        for quantity, value, reference, bar in _rt_checks(packing, rec, scale, ref, bars)
     ]
     if exact:
         err = np.abs(rec.sigma_vertex - scene.sigma_bc).max(axis=(1, 2, 3))
         rows.append(
             Row(
                 f"{tag}: max |sigma - sigma_exact| over all vertices [Pa]",
-                diagnostic(float(err.max())),
+                _checked(float(err.max()), 0.0, bars.of("vertex")),
                 0.0,
                 case.exact_source,
                 rec.wall_s,
@@ -492,15 +531,68 @@ def _rt_rows(tag: str, scene: TrescaScene, case: RtCase, traction, res, st: dict
         "sigma_vertex": rec.sigma_vertex,
         "cell_stress": rec.cell_stress,
     }
-    return rows, fields
+    return rows, fields, bars
 
 
-def _checked(value: float, reference: float | None):
+class _RtCheckBars:
+    """The bar of each check of an RT0 reconstruction, in the check's unit: round-off
+    (:func:`validation.cases.tresca_bars.rt_round_off`) for the checks that vanish for any
+    forces; for the others, the round-off plus what the force bars ``widths`` [Pa] move them
+    by (:func:`validation.cases.tresca_bars.rt_bars`), or None without force bars (a solver's
+    own dual, :mod:`validation.cases.tresca_bars`)."""
+
+    def __init__(self, packing, rec, scale: float, widths: np.ndarray | None):
+        self.round_off = tb.rt_round_off(rec)
+        self.scale = scale
+        self.area = float(rec.tri_area.sum())
+        self.cell_area = np.bincount(rec.tri_cell, weights=rec.tri_area)
+        self.sens = None if widths is None else tb.rt_bars(packing, widths)
+        self.tri_area = rec.tri_area
+
+    def of(self, name: str) -> float | None:
+        """The bar of check ``name`` (the keys of :meth:`_force_dependent`)."""
+        fixed = {
+            "continuity": self.round_off,
+            "weak symmetry": self.round_off / self.scale,
+            "green": self.round_off * float(self.cell_area.max()),
+        }
+        if name in fixed:
+            return fixed[name]
+        if self.sens is None:
+            return None
+        return self._force_dependent()[name]
+
+    def _force_dependent(self) -> dict[str, float]:
+        b, p, r = self.sens, self.scale, self.round_off
+        skew = b.sigma_vertex[..., 0, 1] + b.sigma_vertex[..., 1, 0]  # (n_tri, 3)
+        mid = 0.5 * (b.sigma_vertex[:, 1] + b.sigma_vertex[:, 2])
+        frob = np.linalg.norm(b.sigma_vertex, axis=(-2, -1))
+        l2 = np.sqrt(self.area)
+        return {
+            "vertex": float(b.sigma_vertex.max()) + r,
+            "div": float(np.sqrt(np.sum(self.tri_area * np.sum(b.div**2, axis=1)))) / (p * l2),
+            "skew L2": float(np.sqrt(np.sum(self.tri_area * skew.max(axis=1) ** 2))) / (p * l2),
+            "skew": (float(skew.max()) + 2 * r) / p,
+            "jump": (2 * float(np.linalg.norm(mid, axis=(-2, -1)).max()) + 2 * r) / p,
+            "moment": float(b.traction_moment.max()) * len(self.cell_area) / (p * self.area),
+            "norm": (float(frob.max()) + 2 * r) / p,
+        }
+
+    def cells(self) -> np.ndarray | None:
+        """Bound [Pa] on each cell's mean stress, shape (n_cells, 2, 2), or None."""
+        return None if self.sens is None else self.sens.cell_stress + self.round_off
+
+
+def _checked(value: float, reference: float | None, bar: float | None):
+    """A check with its ``bar`` (:class:`_RtCheckBars`); without one, against 0 a discrepancy
+    with no bar of its own, else the bare value."""
+    if bar is not None:
+        return residual(value, bar, "round-off and force bars")
     return diagnostic(value) if reference == 0.0 else value
 
 
-def _rt_checks(packing, rec, scale: float, ref) -> list[tuple]:
-    """(quantity, value, (reference, source)) of each check of an RT0 reconstruction;
+def _rt_checks(packing, rec, scale: float, ref, bars: _RtCheckBars) -> list[tuple]:
+    """(quantity, value, (reference, source), bar) of each check of an RT0 reconstruction;
     ``scale`` is the largest imposed traction p [Pa], ``ref(name, exact)`` the reference of a
     check that the paper observed or that holds for the exact stress."""
     d = rec.tri_xy.mean(axis=1) - rec.tri_xy[:, 0]
@@ -516,49 +608,71 @@ def _rt_checks(packing, rec, scale: float, ref) -> list[tuple]:
             "traction continuity max |sigma_a n_a + sigma_b n_b| [Pa]",
             _traction_continuity(packing, rec),
             (0.0, "closed form (RT0 conformity, Remark 5)"),
+            bars.of("continuity"),
         ),
         (
             "weak symmetry max_T |int_T (s_xy - s_yx)| / (|T| p) [-]",
             float(rec.weak_symmetry_residual.max()) / (scale * area / len(rec.tri_area)),
             (0.0, SRC_CLOSED),
+            bars.of("weak symmetry"),
         ),
         (
             "||div sigma||_L2 / (p sqrt|Omega|) [1/m]",
             float(np.sqrt(np.sum(rec.div_norm**2))) / (scale * np.sqrt(area)),
             ref("div", 0.0),
+            bars.of("div"),
         ),
         (
             "||s_xy - s_yx||_L2 / (p |Omega|^0.5) [-]",
             float(np.sqrt(np.sum(rec.skew_norm**2))) / (scale * np.sqrt(area)),
             ref("skew", 0.0),
+            bars.of("skew L2"),
         ),
-        ("max pointwise |s_xy - s_yx| / p [-]", float(skew_pt.max()) / scale, ref("skew", 0.0)),
+        (
+            "max pointwise |s_xy - s_yx| / p [-]",
+            float(skew_pt.max()) / scale,
+            ref("skew", 0.0),
+            bars.of("skew"),
+        ),
         (
             "max stress jump across internal edges / p [-]",
             _stress_jump(packing, rec) / scale,
             ref("jump", 0.0),
+            bars.of("jump"),
         ),
         (
             "max_c |M_c - int_c (x-C) x div sigma| [N m/m]",
             float(identity.max()),
             (0.0, "closed form (Green identity)"),
+            bars.of("green"),
         ),
         (
             "max_c |traction moment M_c| / (p |Omega|/n_c) [-]",
             float(np.abs(rec.traction_moment).max()) / (scale * area / packing.n_cells),
             ref("moment", 0.0),
+            bars.of("moment"),
         ),
         (
             "cells in tension (max principal of mean stress > 1e-9 p) [-]",
             float(np.sum(principal[:, 1] > 1e-9 * scale)),
             ref("tension", 0.0),
+            _tension_count_bar(principal[:, 1], 1e-9 * scale, bars.cells()),
         ),
         (
             "max |sigma| (2-norm, vertices) / p [-]",
             float(sigma_norm.max()) / scale,
             ref("concentration", 1.0),
+            bars.of("norm"),
         ),  # fmt: skip
     ]
+
+
+def _tension_count_bar(principal, threshold: float, cell_bars) -> float | None:
+    """Cells whose largest principal mean stress [Pa] is within its bound (the Frobenius norm
+    of the cell's bar bounds an eigenvalue's shift) of ``threshold``; None without bars."""
+    if cell_bars is None:
+        return None
+    return tb.count_bar(principal, threshold, np.linalg.norm(cell_bars, axis=(-2, -1)))
 
 
 def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
@@ -571,11 +685,11 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
         traction, res = _solve(scene.packing, scene.sigma_bc, scene.s, case.solver, case.selection)
         st = _settings(case.solver, case.selection, s_pa=scene.s, **scene.settings)
         tag = f"{scene.label} [{case.solver}/{case.selection}]"
-        new_rows, fields = _rt_rows(tag, scene, case, traction, res, st)
+        new_rows, fields, bars = _rt_rows(tag, scene, case, traction, res, st)
         rows += new_rows
         npz.update({f"{case.key}__{name}": np.asarray(v) for name, v in fields.items()})
         if case.cell_rows:
-            rows += _cell_stress_rows(scene.label, fields["cell_stress"])
+            rows += _cell_stress_rows(scene.label, fields["cell_stress"], bars.cells())
     if not quick:
         for n_cells in (250, 1000):
             rows.append(_rt_timing_row(n_cells))
@@ -585,12 +699,13 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
     return rows, RECONSTRUCTION_NOTES
 
 
-def _cell_stress_rows(name: str, cell_stress: np.ndarray) -> list[Row]:
-    """The uniform stress -p I in every cell of a verification mesh (seed 003 Figs. 6b, 7b)."""
+def _cell_stress_rows(name: str, cell_stress: np.ndarray, cell_bars) -> list[Row]:
+    """The uniform stress -p I in every cell of a verification mesh (seed 003 Figs. 6b, 7b),
+    with the bounds ``cell_bars`` [Pa] (n_cells, 2, 2) of the min-energy forces' bars."""
     return [
         Row(
             f"{name} cell {c}: mean sigma_{axis} [Pa]",
-            float(cell_sigma[k, k]),
+            Estimate(float(cell_sigma[k, k]), {"force bars": float(cell_bars[c, k, k])}),
             -PRESSURE,
             "closed form (seed 003 Sec. 4.3)",
             None,

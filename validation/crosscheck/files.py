@@ -127,20 +127,8 @@ def _multipliers(result) -> list[list]:
 
 def markdown(result, files: dict, payload: dict) -> str:
     """The human report: scene, verdict, multipliers, FEM, steps, files, settings."""
-    s = result.scene
-    verdict = "consistent" if result.consistent else "INCONSISTENT (see the failed lines)"
     lines = [
-        f"# Cross-check of `{s['name']}`",
-        "",
-        f"commit `{payload['git_commit'][:12]}`, {payload['date']}; verdict: **{verdict}**",
-        "",
-        f"{s['n_blocks']} blocks ({s['n_free']} free, {s['n_fixed']} fixed, "
-        f"{s['n_restrained_dofs']} restrained dofs), {s['n_interfaces']} interfaces; weight of "
-        f"the free blocks {s['weight_free_N'] / 1e3:.4g} kN; live load per unit lambda "
-        f"{[round(v / 1e3, 4) for v in s['live_resultant_N']]} kN; extent "
-        f"{[round(v, 4) for v in s['extent_m']]} m; friction {s['mu']}.",
-        *_edge_contacts(s.get("edge_contacts", [])),
-        *_warnings(s.get("meta", {}).get("warnings", []) + list(result.warnings)),
+        *_scene_lines(result, payload),
         "",
         "## In short",
         "",
@@ -148,59 +136,13 @@ def markdown(result, files: dict, payload: dict) -> str:
         "",
         "## Verdict",
         "",
-        *_table(
-            ["check", "result", "value", "bound", "detail"],
-            [
-                [
-                    c.name,
-                    c.status,
-                    _with_bar(c.value, c.value_error),
-                    _with_bar(c.bound, c.bound_error),
-                    c.detail,
-                ]
-                for c in result.checks
-            ],  # fmt: skip
-        ),
+        *_verdict_table(result),
         "",
         "## Load multipliers",
         "",
         *_table(["quantity", "lambda", "note"], _multipliers(result)),
         "",
-    ]
-    fem = next((x for x in result.steps if x.name == "fem" and x.ok), None)
-    if fem is not None and not fem.values["n_solved"]:
-        lines += [
-            "## Block stresses at the DEM collapse state (FEM)",
-            "",
-            f"No block was solved at the state {fem.settings['state']} (lambda = "
-            f"{fem.settings['lambda']:.4g}): {_none_solved(fem)}.",
-            "",
-        ]
-    elif fem is not None:
-        v = fem.values
-        listed = _most_stressed(v["blocks"], v["residual_tolerance"])
-        lines += [
-            "## Block stresses at the DEM collapse state (FEM)",
-            "",
-            f"State {fem.settings['state']} at lambda = {fem.settings['lambda']:.4g}; largest "
-            f"tension {_stress(v, 'max_tension_Pa')} MPa (block {v['max_tension_block']}), largest "
-            f"compression {_stress(v, 'max_compression_Pa')} MPa (block "
-            f"{v['max_compression_block']}); largest equilibrium residual "
-            f"{_cell(v['max_residual'])} (tolerance {v['residual_tolerance']:g}). "
-            f"E = {fem.settings['young'] / 1e9:g} GPa is "
-            "a placeholder: the stresses of a statically determinate block do not depend on it.",
-            "",
-            *_table(
-                ["block", "residual", "max principal [MPa]", "min principal [MPa]"],
-                [[b["block"], b["residual"], _mpa(b.get("max_principal")),
-                  _mpa(b.get("min_principal"))] for b in listed],
-            ),
-            "",
-            f"The {min(len(v['blocks']), BLOCK_ROWS)} most stressed or least balanced blocks of "
-            f"{len(v['blocks'])}; every block is in `report.json`.",
-            "",
-        ]  # fmt: skip
-    lines += [
+        *_fem_lines(result),
         "## Steps",
         "",
         *_table(
@@ -219,6 +161,76 @@ def markdown(result, files: dict, payload: dict) -> str:
         *[f"- {x.name}: `{json.dumps(_jsonable(x.settings))}`" for x in result.steps],
     ]
     return "\n".join(lines)
+
+
+def _scene_lines(result, payload: dict) -> list[str]:
+    """Title, commit, verdict and the scene in one paragraph, with its edge contacts and
+    warnings."""
+    s = result.scene
+    verdict = "consistent" if result.consistent else "INCONSISTENT (see the failed lines)"
+    return [
+        f"# Cross-check of `{s['name']}`",
+        "",
+        f"commit `{payload['git_commit'][:12]}`, {payload['date']}; verdict: **{verdict}**",
+        "",
+        f"{s['n_blocks']} blocks ({s['n_free']} free, {s['n_fixed']} fixed, "
+        f"{s['n_restrained_dofs']} restrained dofs), {s['n_interfaces']} interfaces; weight of "
+        f"the free blocks {s['weight_free_N'] / 1e3:.4g} kN; live load per unit lambda "
+        f"{[round(v / 1e3, 4) for v in s['live_resultant_N']]} kN; extent "
+        f"{[round(v, 4) for v in s['extent_m']]} m; friction {s['mu']}.",
+        *_edge_contacts(s.get("edge_contacts", [])),
+        *_warnings(s.get("meta", {}).get("warnings", []) + list(result.warnings)),
+    ]
+
+
+def _verdict_table(result) -> list[str]:
+    """One row per check: its status, value and bound (with error bars) and detail."""
+    return _table(
+        ["check", "result", "value", "bound", "detail"],
+        [
+            [c.name, c.status, _with_bar(c.value, c.value_error),
+             _with_bar(c.bound, c.bound_error), c.detail]
+            for c in result.checks
+        ],
+    )  # fmt: skip
+
+
+def _fem_lines(result) -> list[str]:
+    """The section on block stresses at the DEM collapse state, or nothing if the FEM step
+    did not run (or failed)."""
+    fem = next((x for x in result.steps if x.name == "fem" and x.ok), None)
+    if fem is None:
+        return []
+    title = ["## Block stresses at the DEM collapse state (FEM)", ""]
+    if not fem.values["n_solved"]:
+        return [
+            *title,
+            f"No block was solved at the state {fem.settings['state']} (lambda = "
+            f"{fem.settings['lambda']:.4g}): {_none_solved(fem)}.",
+            "",
+        ]
+    v = fem.values
+    listed = _most_stressed(v["blocks"], v["residual_tolerance"])
+    return [
+        *title,
+        f"State {fem.settings['state']} at lambda = {fem.settings['lambda']:.4g}; largest "
+        f"tension {_stress(v, 'max_tension_Pa')} MPa (block {v['max_tension_block']}), largest "
+        f"compression {_stress(v, 'max_compression_Pa')} MPa (block "
+        f"{v['max_compression_block']}); largest equilibrium residual "
+        f"{_cell(v['max_residual'])} (tolerance {v['residual_tolerance']:g}). "
+        f"E = {fem.settings['young'] / 1e9:g} GPa is "
+        "a placeholder: the stresses of a statically determinate block do not depend on it.",
+        "",
+        *_table(
+            ["block", "residual", "max principal [MPa]", "min principal [MPa]"],
+            [[b["block"], b["residual"], _mpa(b.get("max_principal")),
+              _mpa(b.get("min_principal"))] for b in listed],
+        ),
+        "",
+        f"The {min(len(v['blocks']), BLOCK_ROWS)} most stressed or least balanced blocks of "
+        f"{len(v['blocks'])}; every block is in `report.json`.",
+        "",
+    ]  # fmt: skip
 
 
 def _none_solved(fem) -> str:
