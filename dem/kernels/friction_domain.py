@@ -284,7 +284,9 @@ def _unit(d, C):
 @njit(cache=True)
 def _max_direction(sigma_t, C, regions, counts, beta, band, acc):
     """The direction of largest ``rho`` (module notes), stopped at the first with
-    ``rho > -band h``. Returns ``(d, rho)``; ``acc`` holds the support terms at ``d``."""
+    ``rho > -band h``, or where the gradient on the sphere is below ``1e-3 |rho|`` (the
+    Newton step would then raise ``rho`` by a negligible part of the way to 0). Returns
+    ``(d, rho)``; ``acc`` holds the support terms at ``d``."""
     d = _unit(sigma_t / C, C)
     support(d, regions, counts, beta, acc)
     psi = sigma_t @ d - acc[0]
@@ -294,7 +296,7 @@ def _max_direction(sigma_t, C, regions, counts, beta, band, acc):
         if psi > -band * acc[0]:
             break
         step, size = _ascent_step(sigma_t, C, d, psi, acc)
-        if size <= 1e-9 * abs(psi) or size <= 1e-15 * scale:
+        if size <= 1e-3 * abs(psi) or size <= 1e-15 * scale:
             break
         moved = False
         for _ in range(30):
