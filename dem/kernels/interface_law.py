@@ -66,6 +66,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from dem.kernels import friction_domain
 from dem.kernels.contact_stress import MAX_VERTICES, stress_resultants
 from dem.kernels.shear_torsion_return import nearest_on_boundary
 
@@ -89,10 +90,13 @@ P_FC = 12  # compressive strength f_c [Pa]; inf for none
 P_AREA = 13  # area A [m^2]
 P_STIFF = 14  # 14:16 (k_n, k_r) per unit area [Pa/m]
 P_TOUCH = 16  # gap up to which a joint counts as touching [m] (module notes)
-P_N_CORNERS = 17  # corners of the joint polygon
-P_POLY = 18  # 18:18 + 2 MAX_VERTICES corners (y1, y2) about the centroid, CCW [m]
+P_DOMAIN = 17  # shear-torsion domain: DOMAIN_EQ_A5 or DOMAIN_EXACT
+P_N_CORNERS = 18  # corners of the joint polygon
+P_POLY = 19  # 19:19 + 2 MAX_VERTICES corners (y1, y2) about the centroid, CCW [m]
 N_PARAMS = P_POLY + 2 * MAX_VERTICES
 NORMAL_ROWS = (0, 3, 4)  # the components (dn, phi1, phi2) the normal force depends on
+DOMAIN_EQ_A5 = 0  # seed 001's Eq. (A5) on the reduced rectangle
+DOMAIN_EXACT = 1  # the joint's own domain (dem.kernels.friction_domain)
 
 
 @njit(cache=True)
@@ -260,23 +264,20 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
             out_qp[i] = qp[i] if unloaded else q[i]
             out_D[i, i] = k[i] if unloaded else floor * k[i]
         return STATE_ELASTIC if unloaded else STATE_SHEAR
-    reduced = (max(dims[0] - 2.0 * abs(centre[0]), 0.0), max(dims[1] - 2.0 * abs(centre[1]), 0.0))
-    m_u = torsion_coefficient(reduced[0], reduced[1]) * v_u
-    g = (v1 * v1 + v2 * v2) / (v_u * v_u)
-    if m_u > 0.0:
-        g += (abs(m_t) / m_u) ** params[P_ALPHA]
-    elif m_t != 0.0:
-        g = math.inf
     out_f[1], out_f[2], out_f[5] = v1, v2, m_t
-    if g < 1.0 - KINK_BAND:
+    if params[P_DOMAIN] == DOMAIN_EXACT:
+        mu = params[P_MU] if abs(out_f[0]) > touch_force else 0.0
+        plastic = exact_flow(q, params, (c, mu), cap, centre, d_centre, dv, floor, out_f, out_D)
+    else:
+        plastic = eq_a5_flow(params, v_u, cap, centre, dv, floor, out_f, out_D)
+    if plastic:
+        state = STATE_SHEAR
+    else:
         for i in (1, 2, 5):
             out_qp[i] = qp[i]
         out_D[1, :], out_D[2, :] = dv[0], dv[1]
         out_D[5, 5] = k[5]
         state = STATE_ELASTIC
-    else:
-        shear_torsion_flow(params, v_u, cap, reduced, dv, floor, out_f, out_D)
-        state = STATE_SHEAR
     # back to the centroid: M3 = M3' + y_c x V; the elastic slip at the centroid
     out_f[5] += centre[0] * out_f[2] - centre[1] * out_f[1]
     for j in range(6):
@@ -288,6 +289,74 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
         out_qp[2] = q[2] - out_f[2] / k[2] + twist * centre[0]
         out_qp[5] = q[5] - twist
     return state
+
+
+@njit(cache=True)
+def eq_a5_flow(params, v_u, cap, centre, dv, floor, out_f, out_D):
+    """Yield test and return on seed 001's domain, Eq. (A5) with ``c_T`` of the reduced
+    rectangle (module notes). Rows 1, 2, 5 of ``out_f`` hold the trial ``(V1, V2, M3')``
+    about the centre of compression ``centre``; a yielded trial is returned in place with its
+    tangent (:func:`shear_torsion_flow`). Returns whether it yielded."""
+    dims = params[P_DIMS : P_DIMS + 2]
+    reduced = (max(dims[0] - 2.0 * abs(centre[0]), 0.0), max(dims[1] - 2.0 * abs(centre[1]), 0.0))
+    m_u = torsion_coefficient(reduced[0], reduced[1]) * v_u
+    v1, v2, m_t = out_f[1], out_f[2], out_f[5]
+    g = (v1 * v1 + v2 * v2) / (v_u * v_u)
+    if m_u > 0.0:
+        g += (abs(m_t) / m_u) ** params[P_ALPHA]
+    elif m_t != 0.0:
+        g = math.inf
+    if g < 1.0 - KINK_BAND:
+        return False
+    shear_torsion_flow(params, v_u, cap, reduced, dv, floor, out_f, out_D)
+    return True
+
+
+@njit(cache=True)
+def exact_flow(q, params, friction, cap, centre, d_centre, dv, floor, out_f, out_D):
+    """Yield test and return on the joint's exact domain (:mod:`dem.kernels.friction_domain`)
+    under its capped stress field, with the same contract as :func:`eq_a5_flow`;
+    ``friction`` the cohesion force in effect [N] and the friction coefficient in effect.
+
+    The tangent adds to the trial's the change of the domain with the normal motion (its
+    capacity ``c - mu sigma`` on the linear part) and with the centre of compression.
+    """
+    k = params[P_K : P_K + 6]
+    area = params[P_AREA]
+    kn, kr = params[P_STIFF], params[P_STIFF + 1]
+    mu = friction[1]
+    n = int(params[P_N_CORNERS])
+    poly = params[P_POLY : P_POLY + 2 * n].reshape((n, 2))
+    # sigma(y) = a + b1 y1 + b2 y2 (dem.kernels.contact_stress)
+    sigma = np.array((kn * q[0], -kr * q[4], kr * q[3]))
+    strength = np.array(((cap + out_f[0]) / area, params[P_FC]))
+    regions = np.zeros((3, friction_domain.MAX_REGION, 2))
+    beta = np.zeros((3, 3))
+    counts = friction_domain.capacity_regions(
+        poly, n, sigma, strength, np.array((friction[0] / area, mu)), centre, regions, beta
+    )
+    s, A, B, G = np.empty(3), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 5))
+    trial = np.array((out_f[1], out_f[2], out_f[5]))
+    C = np.array((k[1], k[2], k[5]))
+    if not friction_domain.project(trial, C, regions, counts, beta, KINK_BAND, s, A, B, G):
+        return False
+    # d (trial) / d q and d g / d q at the fixed slip: capacity beta (about the centre), centre
+    dtrial = np.zeros((3, 6))
+    dtrial[0], dtrial[1] = dv[0], dv[1]
+    dtrial[2, 5] = k[5]
+    dbeta = np.zeros((5, 6))
+    dbeta[0, 0] = -mu * kn
+    dbeta[0, 4] = mu * kr * centre[0]
+    dbeta[0, 3] = -mu * kr * centre[1]
+    dbeta[1, 4] = mu * kr
+    dbeta[2, 3] = -mu * kr
+    dbeta[3], dbeta[4] = d_centre[0], d_centre[1]
+    rows = A @ dtrial + B @ (G @ dbeta)
+    out_D[1, :], out_D[2, :], out_D[5, :] = rows[0], rows[1], rows[2]
+    out_f[1], out_f[2], out_f[5] = s[0], s[1], s[2]
+    for i in (1, 2, 5):
+        out_D[i, i] += floor * k[i]
+    return True
 
 
 @njit(cache=True)

@@ -80,6 +80,15 @@ class GridRefinement:
         ``lambda_max`` (module notes)."""
         return {SOURCE: BOUND_FACTOR * self.change}
 
+    def describe(self) -> str:
+        """The grids and their lambdas in words, e.g. ``"fibre grids 5, 9, 17 points:
+        lambda_max 0.5657, 0.5433, no collapse"``."""
+        lams = ", ".join(
+            f"{lam:.6g}" if math.isfinite(lam) else "no collapse" for lam in self.lambdas
+        )
+        points = ", ".join(map(str, self.points))
+        return f"fibre grids {points} points: lambda_max {lams}"
+
     def to_dict(self) -> dict:
         return {
             "points": list(self.points),

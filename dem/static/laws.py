@@ -151,6 +151,10 @@ class _Committed:
         return bool(new.any())
 
 
+SHEAR_TORSION_CODES = {"eq_a5": rk.DOMAIN_EQ_A5, "exact": rk.DOMAIN_EXACT}
+"""The kernel's code of each shear-torsion domain of :class:`ResultantLawSettings`."""
+
+
 class ResultantLaw(_Committed):
     """Seed 001's resultant law (:mod:`dem.kernels.interface_law`) on every joint; the
     parameter rows hold each joint's polygon (at most ``MAX_VERTICES`` corners)."""
@@ -181,6 +185,7 @@ class ResultantLaw(_Committed):
         params[:, rk.P_AREA] = joints.area
         params[:, rk.P_STIFF : rk.P_STIFF + 2] = joints.kn, joints.kr
         params[:, rk.P_TOUCH] = rk.TOUCH * joints.extent
+        params[:, rk.P_DOMAIN] = SHEAR_TORSION_CODES[settings.shear_torsion]
         for k in range(m):
             params[k, rk.P_N_CORNERS :] = _corner_row(interfaces.local_polygon(k), k)
         self.params = np.ascontiguousarray(params)

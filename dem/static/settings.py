@@ -18,6 +18,7 @@ from dataclasses import dataclass, fields, replace
 from typing import ClassVar
 
 ON_FAILURE = ("raise", "return")
+SHEAR_TORSION_DOMAINS = ("eq_a5", "exact")
 
 
 def _positive(name: str, v, allow_none: bool = False) -> None:
@@ -45,9 +46,15 @@ class ResultantLawSettings:
 
     Attributes
     ----------
+    shear_torsion : {"eq_a5", "exact"}
+        Domain of shear and torsion. ``"eq_a5"`` (default; seed 001's tables): Eq. (A5) with
+        ``c_T`` of the compressed rectangle reduced by the eccentricities. ``"exact"``: the
+        joint's own domain under Coulomb friction at its capped normal stress, the limit of
+        the fibre law on a fine grid (:mod:`dem.kernels.friction_domain`); about 10-100
+        times the cost of Eq. (A5) per yielded joint.
     alpha : float or None
         Exponent of Eq. (A5); None: seed Table A1 (column ``f1 = f2``) at each interface's
-        aspect ratio.
+        aspect ratio. Only with ``shear_torsion="eq_a5"``.
     tangent_floor : float
         Fraction of the elastic stiffness kept by yielded components of the iteration matrix
         (the residual uses the exact law), so that blocks held only by yielded joints keep a
@@ -65,14 +72,23 @@ class ResultantLawSettings:
     """
 
     name: ClassVar[str] = "resultant"
+    shear_torsion: str = "eq_a5"
     alpha: float | None = None
     tangent_floor: float = 1e-9
     predictor: bool = True
     accept_tolerance: float | None = None
 
     def __post_init__(self):
+        if self.shear_torsion not in SHEAR_TORSION_DOMAINS:
+            raise ValueError(
+                f"shear_torsion must be one of {SHEAR_TORSION_DOMAINS}, got {self.shear_torsion!r}"
+            )
         if self.alpha is not None and not (math.isfinite(self.alpha) and self.alpha >= 1):
             raise ValueError(f"alpha must be None or >= 1, got {self.alpha!r}")
+        if self.alpha is not None and self.shear_torsion != "eq_a5":
+            raise ValueError(
+                f"alpha is the exponent of Eq. (A5); shear_torsion is {self.shear_torsion!r}"
+            )
         _fraction("tangent_floor", self.tangent_floor)
         _positive("accept_tolerance", self.accept_tolerance, allow_none=True)
         if not isinstance(self.predictor, bool):

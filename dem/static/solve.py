@@ -141,8 +141,11 @@ def _solve_on_refined_grids(scene: Scene, settings: StaticSettings, error: str) 
         wall_s=wall,
         settings=settings.to_dict(),
     )
-    if not result.collapsed and settings.on_failure == "raise":
-        raise NoCollapseError(result.failure, result)
+    if not result.collapsed:
+        # the coarser grids' collapses are part of what the user needs to read the failure
+        result = replace(result, failure=f"{result.failure} ({refinement.describe()})")
+        if settings.on_failure == "raise":
+            raise NoCollapseError(result.failure, result)
     return result
 
 
