@@ -3,7 +3,7 @@ r"""Error bars of the FEM check's headline numbers, as :class:`dem.estimate.Esti
 Stress extremes of a block (:class:`fem_check.recovery.StressSummary`) are estimated from
 further solves of the same block, at a cost the caller chooses
 (:data:`dem.estimate.ErrorBudget`). With P2 displacements the further solves are on coarser
-meshes (mesh size times :data:`MESH_RATIO` per level):
+meshes, the coarsest twice the size :math:`h` of the fine one:
 
 ``"none"``
     The value alone, with an unknown (``inf``) error.
@@ -13,17 +13,20 @@ meshes (mesh size times :data:`MESH_RATIO` per level):
     at least 1 (then :math:`|s_h - s_\infty| \le |s_h - s_{2h}| / (2^p - 1) \le |s_h - s_{2h}|`).
     It does not see a value that diverges (a stress peak under a point force).
 ``"full"``
-    Two coarser levels. The observed order :math:`p = \log_2(|s_{4h} - s_{2h}| /
-    |s_{2h} - s_h|)`, capped at the formal order (the displacement degree: a stress converges
-    no faster where the field is smooth); from :data:`MIN_ORDER` up, the bar is Roache's grid
-    convergence index with the three-grid safety factor 1.25,
-    :math:`1.25\,|s_h - s_{2h}| / (2^p - 1)`. Steps that grow or barely shrink (:math:`p`
-    below :data:`MIN_ORDER`: the value runs away under refinement, as a peak at a singular
-    point does) give an infinite bar, named ``"mesh (diverging)"``. Steps of opposite signs
-    (oscillating convergence, where no order can be read) give the larger step (Celik et al.
-    2008). Steps within :data:`ROUND_OFF` of the value are round-off (an exact value, such as
-    a linear stress field with P2). Every bar adds that fraction of the value, the resolution
-    of the solves.
+    Two coarser levels, :math:`rh` and :math:`r^2 h = 2h` with :math:`r` =
+    :data:`FULL_RATIO` :math:`= \sqrt 2`: levels at :math:`4h` would leave a small block (a TIS
+    block is five 1.6 mm elements across) a couple of elements across, outside the
+    asymptotic range whose steps the index extrapolates. The observed order
+    :math:`p = \log_r(|s_{2h} - s_{rh}| / |s_{rh} - s_h|)`, capped at the formal order (the
+    displacement degree: a stress converges no faster where the field is smooth); from
+    :data:`MIN_ORDER` up, the bar is Roache's grid convergence index with the three-grid
+    safety factor 1.25, :math:`1.25\,|s_h - s_{rh}| / (r^p - 1)`. Steps that grow or barely
+    shrink (:math:`p` below :data:`MIN_ORDER`: the value runs away under refinement, as a peak
+    at a singular point does) give an infinite bar, named ``"mesh (diverging)"``. Steps of
+    opposite signs (oscillating convergence, where no order can be read) give the larger step
+    (Celik et al. 2008). Steps within :data:`ROUND_OFF` of the value are round-off (an exact
+    value, such as a linear stress field with P2). Every bar adds that fraction of the value,
+    the resolution of the solves.
 
 With P1 displacements (``"cheap"`` or ``"full"``) the reference is the P2 solution on the same
 mesh, source ``"P1/P2"`` = :math:`|s_{P1} - s_{P2}|`. The extremes of P1 stresses (constant per
@@ -52,6 +55,7 @@ from fem_check.mesh import MeshSettings
 from fem_check.recovery import StressSummary, cut_resultant, summarise
 
 __all__ = [
+    "FULL_RATIO",
     "MESH_RATIO",
     "MIN_ORDER",
     "CutCheck",
@@ -64,7 +68,9 @@ __all__ = [
 ]
 
 MESH_RATIO = 2.0
-"""Ratio of mesh sizes between two levels."""
+"""Ratio of the mesh sizes of the coarser level of ``"cheap"`` and the fine one."""
+FULL_RATIO = math.sqrt(2.0)
+"""Ratio of mesh sizes between successive levels of ``"full"`` (module notes)."""
 MIN_ORDER = 0.5
 """Smallest observed order read as convergence: stresses near re-entrant edges converge with
 order about 0.5; below it the steps do not shrink enough to bound what is left."""
@@ -78,8 +84,9 @@ QUANTITIES = ("max_principal", "max_von_mises", "min_principal")
 def level_estimate(
     values: list[float], budget: ErrorBudget, cost_s: float = 0.0, formal_order: float = 2.0
 ) -> Estimate:
-    """The finest of ``values`` (finest first, each level ``MESH_RATIO`` coarser) with the
-    bar of ``budget``; ``formal_order`` caps the observed order (module notes)."""
+    """The finest of ``values`` (finest first, each level ``MESH_RATIO`` coarser for
+    ``"cheap"``, ``FULL_RATIO`` for ``"full"``) with the bar of ``budget``; ``formal_order``
+    caps the observed order (module notes)."""
     check_error_budget(budget)
     fine = float(values[0])
     if budget == "none":
@@ -99,7 +106,7 @@ def level_estimate(
         return Estimate(fine, {"mesh": max(step, before) + floor}, cost_s, note)
     if step <= floor:
         return Estimate(fine, {"mesh": step + floor}, cost_s, "last step at round-off")
-    order = math.log(before / step) / math.log(MESH_RATIO)
+    order = math.log(before / step) / math.log(FULL_RATIO)
     if order < MIN_ORDER:
         return Estimate(
             fine,
@@ -108,7 +115,7 @@ def level_estimate(
             f"observed order {order:.2f}: the value does not converge under refinement",
         )
     used = min(order, formal_order)
-    gci = SAFETY_FULL * step / (MESH_RATIO**used - 1.0) + floor
+    gci = SAFETY_FULL * step / (FULL_RATIO**used - 1.0) + floor
     note = f"GCI, observed order {order:.2f}, used {used:.2f}"
     return Estimate(fine, {"mesh": gci}, cost_s, note)
 
@@ -129,10 +136,11 @@ def reference_solvers(solver: BlockSolver, budget: ErrorBudget) -> list[BlockSol
     ms = solver.mesh_settings
     if solver.degree == 1:
         return [] if n_levels == 0 else [BlockSolver(solver.material, ms, 2, solver.rel_tol)]
+    ratio = FULL_RATIO if budget == "full" else MESH_RATIO
     return [
         BlockSolver(
             solver.material,
-            MeshSettings(ms.size * MESH_RATIO**k, ms.order, ms.algorithm_3d, ms.optimize),
+            MeshSettings(ms.size * ratio**k, ms.order, ms.algorithm_3d, ms.optimize),
             solver.degree,
             solver.rel_tol,
         )

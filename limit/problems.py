@@ -41,7 +41,7 @@ A tensile strength :math:`\bar\sigma_t` shifts the Coulomb cone apex (seed 001, 
 :math:`f_t = \bar\sigma_t A`. An optional compressive strength :math:`f_c` (rectangular
 interfaces) bounds the uniform stress block on the reduced rectangle,
 :math:`c \le f_c (l_u - 2|e_u|)(l_v - 2|e_v|)`, i.e. :math:`c^3 \le f_c\,a\,b` with ``a, b``
-affine in ``(c, M_1, M_2)``: one second-order and one power cone (convex, exact).
+affine in ``(c, M_1, M_2)``: three rotated second-order cones (convex, exact).
 
 The programme is scaled (forces by the total dead weight ``W``, moments by ``W L`` with ``L``
 the median interface size, lambda by ``W / |F_L|``) so that Clarabel's tolerances are relative
@@ -677,8 +677,13 @@ def _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1_hat,
 
     With :math:`a = c(l_u - 2|e_u|)`, :math:`b = c(l_v - 2|e_v|)` (affine in ``c`` and
     ``c e = (M_2, -M_1)``) the condition is :math:`c^3 \le f_c\,a\,b`: the geometric mean
-    ``w <= sqrt(a b)`` (second-order cone) and :math:`|c| \le f_c^{1/3} w^{2/3}` (power cone).
-    All in scaled units: ``c`` by ``W``, ``a, b, w`` by ``W L``, ``kappa = f_c L^2 / W``.
+    :math:`w^2 \le a b`, then :math:`c^{3/2} \le \sqrt{f_c}\,w` as :math:`s^2 \le c` and
+    :math:`c^2 \le \sqrt{f_c}\,w\,s` (exact: take :math:`s = \sqrt{c}`). All three are
+    rotated second-order cones. The one 3D power cone :math:`c \le f_c^{1/3} w^{2/3}` states
+    the same set, but Clarabel's nonsymmetric-cone steps stall on it (``InsufficientProgress``
+    on a wall with hundreds of such joints, most far from crushing), while the symmetric
+    second-order cones converge. All in scaled units (``s^2 <= c`` in them): ``c`` by ``W``,
+    ``a, b, w`` by ``W L``, ``kappa = f_c L^2 / W`` in place of ``f_c``.
     """
     m = interfaces.n_interfaces
     if m == 0:  # no joint to bound (and cvxpy's cones cannot be empty)
@@ -692,14 +697,22 @@ def _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1_hat,
     a = cp.Variable(m, name="reduced_u")
     b = cp.Variable(m, name="reduced_v")
     w = cp.Variable(m, name="reduced_mean")
+    root = cp.Variable(m, name="sqrt_c")
     cons += [
         a <= cp.multiply(lu, c_hat) - 2 * ceu,
         a <= cp.multiply(lu, c_hat) + 2 * ceu,
         b <= cp.multiply(lv, c_hat) - 2 * cev,
         b <= cp.multiply(lv, c_hat) + 2 * cev,
-        cp.SOC(a + b, cp.vstack([2 * w, a - b]), axis=0),
-        cp.PowCone3D(w, np.full(m, kappa), c_hat, 2.0 / 3.0),
+        _rotated_soc(w, a, b),
+        _rotated_soc(root, c_hat, np.ones(m)),
+        _rotated_soc(c_hat, math.sqrt(kappa) * w, root),
     ]
+
+
+def _rotated_soc(x, y, z) -> cp.Constraint:
+    r""":math:`x^2 \le y z` with :math:`y, z \ge 0`, elementwise, as the second-order cone
+    :math:`\|(2x, y - z)\| \le y + z`."""
+    return cp.SOC(y + z, cp.vstack([2 * x, y - z]), axis=0)
 
 
 @dataclass(eq=False)

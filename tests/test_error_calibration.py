@@ -29,6 +29,9 @@ Catalogue (limit analysis, :mod:`limit.lambda_error`):
 Static DEM (:func:`dem.static.solve_collapse`, ``StaticResult.lambda_estimate``): the same
 blocks and stacks, resultant and fibre laws.
 
+FEM check (:func:`fem_check.error.solve_with_error`): the largest principal stress of a TIS
+block under smooth interface tractions, P2, ``error="full"``, against a finer P2 solve.
+
 Explicit DEM (:func:`dem.explicit.simulate_lateral`): stacks of one to three blocks tipping
 at b / (n h) or sliding at mu, with rigid joints (``error="cheap"``: load step, detection,
 loading rate) and with soft joints continued to rigid ones (``RigidContinuation``); the
@@ -316,6 +319,47 @@ def explicit_cases(fast: bool) -> list[Case]:
     ]
 
 
+FEM_H_MM = (1.4, 1.0)
+"""Mesh sizes [mm] of the FEM peak estimates (``error="full"``: two coarser levels each)."""
+FEM_REFERENCE_H_MM = (0.7, 0.5)
+"""The reference: P2 at the finer size, known to its step from the coarser one [mm]."""
+
+
+def _fem_peak(block, load, h_mm: float, budget: str = "full") -> Estimate:
+    from fem_check.elastic import BlockSolver
+    from fem_check.error import reference_solvers, solve_with_error
+    from fem_check.mesh import MeshSettings
+    from validation.cases.fem import MATERIAL
+
+    solver = BlockSolver(MATERIAL, MeshSettings(size=h_mm * 1e-3), degree=2)
+    refs = reference_solvers(solver, budget)
+    return solve_with_error(solver, block, load, refs, budget)[1].max_principal
+
+
+def fem_cases() -> list[Case]:
+    """The largest principal stress of a TIS block under smooth interface tractions (P2, the
+    case of ``benchmarks/bench_fem.py --speed-error``), ``error="full"`` at each of
+    :data:`FEM_H_MM`, against the P2 value at the finest of :data:`FEM_REFERENCE_H_MM`,
+    known to its step from the other one. Resolution: the sparse solves'
+    (:data:`fem_check.error.ROUND_OFF` of the value)."""
+    from fem_check.error import ROUND_OFF
+    from validation.cases.fem import _smooth_tis_load, _tis_block
+
+    block = _tis_block(2.5)
+    load = _smooth_tis_load(block)
+    coarse_ref, fine_ref = (_fem_peak(block, load, h, "none").value for h in FEM_REFERENCE_H_MM)
+    return [
+        Case(
+            f"FEM TIS peak, P2, h = {h} mm, full",
+            lambda h=h: _fem_peak(block, load, h),
+            fine_ref,
+            abs(fine_ref - coarse_ref),
+            ROUND_OFF * abs(fine_ref),
+        )
+        for h in FEM_H_MM
+    ]
+
+
 @functools.cache
 def _indentation(speed_mm_s: float, error: str):
     """The 3 x 3, 2.5 deg panel of seed 000 at node spacing 1.5 mm, indented at
@@ -393,6 +437,11 @@ def test_explicit_bars_are_calibrated_fast_subset():
     check(run_catalogue(explicit_cases(fast=True)))
 
 
+@pytest.mark.slow  # P2 solves down to 0.5 mm: about 5 min on a busy machine
+def test_fem_tis_peak_bars_are_calibrated():
+    check(run_catalogue(fem_cases()))
+
+
 @pytest.mark.slow  # six explicit runs with their loading-rate reruns: ~40 s on a busy machine
 def test_explicit_bars_are_calibrated():
     check(run_catalogue(explicit_cases(fast=False)))
@@ -422,6 +471,7 @@ if __name__ == "__main__":  # the counts for a report: python -m tests.test_erro
         ("arch", arch_cases()),
         ("static", static_cases()),
         ("explicit", explicit_cases(fast=False)),
+        ("fem", fem_cases()),
         ("indentation", indentation_cases()),
     )
     for name, cases in catalogue:

@@ -200,8 +200,8 @@ def shear_strength(
     """Shear strength along the direction ``angle`` with no torsion applied [N].
 
     A uniform translation makes every spring slide in the same direction, so the strength is
-    ``sum r_i = mu (f_t - N)`` for any angle (seed 001, Eq. (10); 168 N for the seed's
-    interface).
+    ``sum r_i = mu (f_t - N)`` for any angle (seed 001, Eq. (10)), with ``f_t = sigma_t A`` the
+    tensile capacity of the interface and ``N`` the normal force (negative in compression).
 
     Parameters
     ----------

@@ -153,25 +153,70 @@ def test_accurate_fast_solve_is_returned(monkeypatch):
 
 
 def test_inaccurate_to_the_end_but_certified_warns_once(monkeypatch):
-    calls = _degrading(monkeypatch, {"fast", "refined", "tightened"})
+    calls = _degrading(monkeypatch, {"fast", "refined", "short steps", "tightened"})
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7), ONE_PROGRAMME)
-    assert calls == ["fast", "refined", "tightened"]
+    assert calls == ["fast", "refined", "short steps", "tightened"]
     assert res.status == "optimal_inaccurate" and res.is_inaccurate
     assert res.lam == pytest.approx(0.5, rel=1e-6)
     assert len(caught) == 1 and "passed its certificate" in str(caught[0].message)
 
 
 def test_inaccurate_and_uncertified_is_refused_with_one_message(monkeypatch):
-    _degrading(monkeypatch, {"fast", "refined", "tightened"}, break_point=True)
+    _degrading(monkeypatch, {"fast", "refined", "short steps", "tightened"}, break_point=True)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        with pytest.raises(NumericalFailureError, match=r"after 3 Clarabel solves") as info:
+        with pytest.raises(NumericalFailureError, match=r"after 4 Clarabel solves") as info:
             limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7), ONE_PROGRAMME)
     assert "fast optimal_inaccurate, refined optimal_inaccurate" in str(info.value)
     assert "failed its certificate" in str(info.value)
     assert caught == []
+
+
+def _failing(monkeypatch, labels):
+    """Make the named attempts end as a Clarabel failure (``solver_error``, no point)."""
+    real = clarabel.run_clarabel
+    calls = []
+
+    def fake(problem, settings, attempt=clarabel.REFINED):
+        calls.append(attempt.label)
+        if attempt.label in labels:
+            return "solver_error", 0.0
+        return real(problem, settings, attempt)
+
+    monkeypatch.setattr(clarabel, "run_clarabel", fake)
+    return calls
+
+
+def test_a_solver_error_is_retried_with_short_steps(monkeypatch):
+    """After Clarabel gave up, the next attempt takes shorter steps and is returned."""
+    calls = _failing(monkeypatch, {"fast", "refined"})
+    res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7), ONE_PROGRAMME)
+    assert calls == ["fast", "refined", "short steps"] and res.status == "optimal"
+    assert res.lam == pytest.approx(0.5, rel=1e-6)  # overturning: b/h
+
+
+def test_a_certified_inaccurate_point_outlives_a_later_failure(monkeypatch):
+    """An inaccurate but certified point of an early attempt is returned (with its status and
+    one warning) when the later attempts give nothing better."""
+    degrading = _degrading(monkeypatch, {"fast", "refined", "short steps"})
+    real = clarabel.run_clarabel
+
+    def then_failing(problem, settings, attempt=clarabel.REFINED):
+        if attempt.label == "tightened":
+            degrading.append(attempt.label)
+            return "solver_error", 0.0
+        return real(problem, settings, attempt)
+
+    monkeypatch.setattr(clarabel, "run_clarabel", then_failing)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = limit_analysis(block_on_ground(0.4, 0.3, 0.8, mu=0.7), ONE_PROGRAMME)
+    assert degrading == ["fast", "refined", "short steps", "tightened"]
+    assert res.status == "optimal_inaccurate" and res.attempts[-1] == ("tightened", "solver_error")
+    assert res.lam == pytest.approx(0.5, rel=1e-6)
+    assert len(caught) == 1 and "passed its certificate" in str(caught[0].message)
 
 
 @pytest.mark.parametrize("model", ["vertex", "resultant"])

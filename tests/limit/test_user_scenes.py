@@ -240,7 +240,7 @@ def test_the_crosscheck_verdict_catches_an_estimate_above_the_bound_in_any_load_
 
 def test_an_accurate_result_after_a_retry_comes_without_a_warning():
     """A 0.2 x 0.6 m block pushed sideways with mu = 0.1 (resultant model): Clarabel's first
-    solve ends optimal_inaccurate, the tightened retry optimal (lambda = mu, closed form).
+    solve ends optimal_inaccurate, the short-step retry optimal (lambda = mu, closed form).
     cvxpy's 'Solution may be inaccurate' of the first attempt reached the user with that
     accurate result; the only warning is the toolkit's own, for an inaccurate return."""
     import warnings
@@ -252,7 +252,7 @@ def test_an_accurate_result_after_a_retry_comes_without_a_warning():
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = limit.limit_analysis(scene, LimitSettings(mu=0.1, interface_model="resultant"))
-    assert res.attempts == [("refined", "optimal_inaccurate"), ("tightened", "optimal")]
+    assert res.attempts == [("refined", "optimal_inaccurate"), ("short steps", "optimal")]
     assert res.lam == pytest.approx(0.1, rel=1e-6)
     assert [str(w.message) for w in caught] == []
 

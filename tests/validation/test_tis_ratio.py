@@ -26,3 +26,16 @@ def test_ratio_unbounded_where_it_must_be():
     assert math.isinf(unknown.error) and unknown.value == 1.5
     assert math.isinf(ratio(Estimate(1.0, {"a": 0.1}), Estimate(0.5, {"b": 0.6})).error)
     assert ratio(Estimate(1.0, {"exact": 0.0}), Estimate(4.0, {"exact": 0.0})).error == 0.0
+
+
+def test_mean_of_runs():
+    """Three runs 9, 10, 11 with bars 0.1, 0.2, 0.3 (source "rate"): the mean 10 with the t
+    interval of the mean, t_{0.975, 2} s / sqrt(3) = 4.303 / sqrt(3) (s = 1), and the mean
+    bar 0.2."""
+    from validation.cases.tis import mean_of_runs
+
+    runs = [Estimate(v, {"rate": w}) for v, w in ((9.0, 0.1), (10.0, 0.2), (11.0, 0.3))]
+    m = mean_of_runs(runs)
+    assert m.value == 10.0
+    np.testing.assert_allclose(m.sources["sampling"], 4.302652729911275 / np.sqrt(3), rtol=1e-9)
+    np.testing.assert_allclose(m.sources["rate"], 0.2)

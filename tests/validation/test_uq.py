@@ -66,12 +66,13 @@ def test_bootstrap_statistics_are_seeded_and_carry_their_estimates():
     for name in a:  # the same interval from the same seed (only the measured cost differs)
         assert (a[name].lo, a[name].hi, a[name].value) == (b[name].lo, b[name].hi, b[name].value)
         assert a[name].estimate.cost_s > 0
-    assert set(a) == {"mean", "std", "q05", "q50", "q95"}
+    assert set(a) == {"mean", "std", "q05", "q50", "q95", "cov"}
     for ci in a.values():
         est = ci.estimate
         assert ci.lo <= ci.value <= ci.hi
         assert est.contains(ci.lo) and est.contains(ci.hi) and "sampling" in est.sources
     assert a["std"].value == pytest.approx(x.std(ddof=1))
+    assert a["cov"].value == pytest.approx(x.std(ddof=1) / x.mean())
     assert bootstrap_ci(x, "mean", seed=6).lo != a["mean"].lo  # another seed, other resamples
     flat = bootstrap_ci([2.0, 2.0, 2.0], "mean")
     assert flat.lo == flat.hi == 2.0
@@ -136,4 +137,4 @@ def test_stats_rows_carry_the_bootstrap_bar_of_the_mean():
     assert row.ours == pytest.approx(x.mean())
     assert set(row.error_sources) == {"sampling"}
     assert row.ours_error == pytest.approx(mean_ci(x)[1], rel=0.2)
-    assert set(row.extra["bootstrap"]) == {"mean", "std", "q05", "q50", "q95"}
+    assert set(row.extra["bootstrap"]) == {"mean", "std", "q05", "q50", "q95", "cov"}

@@ -116,6 +116,9 @@ def _bounds_rows(
             b.wall_s["upper"],
             settings.to_dict(),
             {**common, "kind": "upper bound (associated)", "solve_s": a.solve_s},
+            # ours is an upper bound of the model's collapse: the reference should lie at or
+            # below it, an inequality (a reference above it is a model error or a failure)
+            reference_kind="lower bound",
         ),
         Row(
             f"{label} [{model}] estimate (a) mu* {unit_label}",

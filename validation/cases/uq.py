@@ -62,7 +62,7 @@ from validation.cases.bars import exact, proportion
 from validation.cases.tis import CONVERGED, QUICK, THICKNESS_MM, mechanism
 from validation.report import Row, input_path, output_dir, results_dir
 from validation.sweep import latest_records, make_tasks, run_sweep
-from validation.sweep.stats import mean_ci, sample_statistics
+from validation.sweep.stats import bootstrap_ci, mean_ci, sample_statistics
 
 logger = logging.getLogger(__name__)
 
@@ -283,7 +283,7 @@ def _peak_rows(peaks, det: dict, seed_ratio, seed_label: str, settings: dict) ->
         rows.append(
             Row(
                 "cov of P_max over the realisations [-]",
-                float(ratio.std(ddof=1) / ratio.mean()),
+                bootstrap_ci(ratio, "cov").estimate,
                 float(seed_ratio.std(ddof=1) / seed_ratio.mean()),
                 seed_label,
                 None,
@@ -535,6 +535,7 @@ def masonry_task(params: dict, seed: int) -> dict:
     return {
         "return_blocks": n_return,
         "lam_dem": static.lambda_max,
+        "lam_dem_estimate": static.lambda_estimate.to_dict(),
         "termination": static.termination,
         "collapsed": bool(static.collapsed),
         "failure": static.failure[:200],
@@ -577,7 +578,7 @@ def _nominal_rows(nominal: dict, spec, settings: dict) -> list[Row]:
     return [
         Row(
             "nominal wall (3-block returns, mu = 0.7): DEM lambda [-]",
-            r["lam_dem"],
+            Estimate.from_dict(r["lam_dem_estimate"]) if "lam_dem_estimate" in r else r["lam_dem"],
             spec.reference,
             spec.source,
             nominal["wall_s"],

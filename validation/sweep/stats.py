@@ -63,6 +63,7 @@ STATISTICS = {
     "q05": lambda x, axis=-1: np.quantile(x, 0.05, axis=axis),
     "q50": lambda x, axis=-1: np.quantile(x, 0.50, axis=axis),
     "q95": lambda x, axis=-1: np.quantile(x, 0.95, axis=axis),
+    "cov": lambda x, axis=-1: np.std(x, ddof=1, axis=axis) / np.mean(x, axis=axis),
 }
 """The reported statistics of a sample, each vectorised over ``axis``."""
 
