@@ -142,7 +142,8 @@ def format_estimate(value: float, error: float, sig_error: int = 2) -> str:
     the same decimal place; an exact value keeps 6 significant digits, an unknown error
     (``inf``) shows ``± ?`` after 4 significant digits, and an error below
     :data:`FINE_RELATIVE` of the value shows the value to 7 significant digits and the error
-    in scientific notation (a certified gap of 1e-11 does not make a reader count 12 zeros)."""
+    in scientific notation (a certified gap of 1e-11 does not make a reader count 12 zeros), as
+    does a small error of a value that is exactly 0."""
     if not math.isfinite(value):
         return str(value)
     if math.isinf(error):
@@ -153,6 +154,8 @@ def format_estimate(value: float, error: float, sig_error: int = 2) -> str:
         return f"{value:.7g} ± {error:.{sig_error - 1}e}"
     exponent = math.floor(math.log10(error)) - (sig_error - 1)
     decimals = max(0, -exponent)
+    if value == 0 and error < 1e-4:  # a residual at 0: no column of zeros
+        return f"0 ± {error:.{sig_error - 1}e}"
     if abs(value) >= 1e6 or (value != 0 and abs(value) < 1e-4):
         scale = math.floor(math.log10(abs(value))) if value != 0 else 0
         digits = max(1, scale - exponent + 1)

@@ -45,6 +45,8 @@ def test_nan_value_and_unknown_budget_are_refused():
         (123.456, 2.3, "123.5 ± 2.3"),
         (0.3, math.inf, "0.3 ± ?"),
         (0.285158842223, 3.5e-11, "0.2851588 ± 3.5e-11"),
+        (0.0, 7.1e-07, "0 ± 7.1e-07"),
+        (0.0, 0.25, "0.00 ± 0.25"),
     ],
 )
 def test_format_keeps_the_digits_the_error_supports(value, error, text):

@@ -6,11 +6,12 @@ deflection at peak, loading energy, ultimate deflection) becomes an
 zero time step, zero node spacing, continuous curve), with sources the method measures itself:
 
 - "curve sampling" (free): the curve is recorded every ``record_interval`` of travel ``h``, as
-  the mean load over each interval. The peak of the continuous curve lies within one interval
-  of the recorded one, and rises above it by at most the change of the recorded load over one
-  interval on either side; the ultimate deflection is known to one interval, the loading
-  energy to the area of one interval at the load there. A peak that was not reached (the load
-  never fell after it) is a lower bound only: every number gets an unbounded source;
+  the mean load over each interval. For a curve that varies smoothly over one interval, the
+  peak of the continuous curve lies within one interval of the recorded one and rises above
+  it by at most the change of the recorded load over one interval on either side; the
+  ultimate deflection is known to one interval, the loading energy to the area of one
+  interval at the load there. A peak that was not reached (the load never fell after it) is
+  a lower bound only: every number gets an unbounded source;
 - "loading rate" (``"cheap"``): the run repeated at half the indenter speed;
 - "time step" and "node spacing" (``"full"``): the run repeated at half the time step, and at
   half the node spacing.
