@@ -45,7 +45,7 @@ import math
 import numpy as np
 from numba import njit
 
-from dem.kernels.contact_stress import MAX_VERTICES, clip_half_plane
+from dem.kernels.contact_stress import MAX_VERTICES, clip_half_plane, origin_moments
 
 MAX_REGION = MAX_VERTICES + 3  # corners of a part after the two cuts (and a spare)
 FAR = 8.0  # rotation centres further than FAR part radii leave the integrands smooth
@@ -284,7 +284,9 @@ def _unit(d, C):
 @njit(cache=True)
 def _max_direction(sigma_t, C, regions, counts, beta, band, acc):
     """The direction of largest ``rho`` (module notes), stopped at the first with
-    ``rho > -band h``. Returns ``(d, rho)``; ``acc`` holds the support terms at ``d``."""
+    ``rho > -band h``, or where the gradient on the sphere is below ``1e-3 |rho|`` (the
+    Newton step would then raise ``rho`` by a negligible part of the way to 0). Returns
+    ``(d, rho)``; ``acc`` holds the support terms at ``d``."""
     d = _unit(sigma_t / C, C)
     support(d, regions, counts, beta, acc)
     psi = sigma_t @ d - acc[0]
@@ -294,7 +296,7 @@ def _max_direction(sigma_t, C, regions, counts, beta, band, acc):
         if psi > -band * acc[0]:
             break
         step, size = _ascent_step(sigma_t, C, d, psi, acc)
-        if size <= 1e-9 * abs(psi) or size <= 1e-15 * scale:
+        if size <= 1e-3 * abs(psi) or size <= 1e-15 * scale:
             break
         moved = False
         for _ in range(30):
@@ -347,6 +349,48 @@ def _minimise(sigma_t, C, w, regions, counts, beta, acc):
 
 
 @njit(cache=True)
+def capacity_centroid(regions, counts, beta):
+    """``(V_u, y1, y2)``: the total capacity ``int tau dA`` [N] and its centroid about the
+    reference point [m] (0 where the capacity is 0)."""
+    total, first1, first2 = 0.0, 0.0, 0.0
+    moments = np.empty(6)
+    for k in range(3):
+        if counts[k] < 3:
+            continue
+        moments[:] = 0.0
+        origin_moments(regions[k], counts[k], 1.0, moments)
+        b = beta[k]
+        total += b[0] * moments[0] + b[1] * moments[1] + b[2] * moments[2]
+        first1 += b[0] * moments[1] + b[1] * moments[3] + b[2] * moments[4]
+        first2 += b[0] * moments[2] + b[1] * moments[4] + b[2] * moments[5]
+    if total <= 0.0:
+        return 0.0, 0.0, 0.0
+    return total, first1 / total, first2 / total
+
+
+@njit(cache=True)
+def inside_bicone(sigma_t, regions, counts, beta, band, acc):
+    """Whether the trial lies inside ``K`` by more than ``band``, from an inner set: the hull
+    of the sliding disc ``{(V, ybar x V): |V| <= V_u}`` (translations: every point slides
+    along ``V``; ``ybar`` the centroid of the capacity) and the support points ``+-p`` of
+    the twist about ``ybar``. Sufficient, not necessary; one support evaluation."""
+    v_u, c1, c2 = capacity_centroid(regions, counts, beta)
+    if v_u <= 0.0:
+        return False
+    support(np.array((c2, -c1, 1.0)), regions, counts, beta, acc)
+    a, b = acc[1], acc[2]
+    apex = acc[3] - (c1 * b - c2 * a)  # the twist's torsion about ybar
+    if apex <= 0.0:
+        return False
+    t = (sigma_t[2] - (c1 * sigma_t[1] - c2 * sigma_t[0])) / apex
+    shrink = 1.0 - 2.0 * band
+    if abs(t) >= shrink:
+        return False
+    radius = (1.0 - abs(t)) * v_u * shrink
+    return math.hypot(sigma_t[0] - t * a, sigma_t[1] - t * b) < radius
+
+
+@njit(cache=True)
 def project(sigma_t, C, regions, counts, beta, band, out_s, out_A, out_B, out_G):
     """Closest point of ``K`` to the trial ``sigma_t`` in the energy of ``C`` (module notes).
 
@@ -378,6 +422,9 @@ def project(sigma_t, C, regions, counts, beta, band, out_s, out_A, out_B, out_G)
         out_s[:] = sigma_t  # the origin: inside whenever the joint has a capacity
         return False
     acc = np.empty(N_ACC)
+    if inside_bicone(sigma_t, regions, counts, beta, band, acc):
+        out_s[:] = sigma_t
+        return False
     d, psi = _max_direction(sigma_t, C, regions, counts, beta, band, acc)
     if psi <= -band * acc[0]:
         out_s[:] = sigma_t
