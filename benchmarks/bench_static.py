@@ -64,8 +64,8 @@ from dem.static import StaticSettings, StaticSolverError, solve_collapse
 from dem.static.dead_load import solve_dead_load
 from dem.static.model import Model
 from dem.static.newton import Corrector, factor
-from limit.problems import LimitSettings
-from limit.solve import limit_analysis
+from limit.problems import LimitSettings, build_static_problem
+from limit.solve import solve_static
 
 TARGET_S = 10.0
 LAWS = ("resultant", "fibre")
@@ -301,7 +301,7 @@ def _warm_up(method: str) -> None:
     if method == "static":
         solve_collapse(scene, StaticSettings(max_steps=2, on_failure="return"))
     else:
-        limit_analysis(scene, LimitSettings(interface_model="resultant"))
+        solve_static(build_static_problem(scene, LimitSettings(interface_model="resultant")))
 
 
 def _static_row(scene: Scene, max_steps: int | None) -> dict:
@@ -327,9 +327,9 @@ def _static_row(scene: Scene, max_steps: int | None) -> dict:
 
 def run_in_plane(size: int, method: str, max_steps: int | None = None) -> dict:
     """One in-plane wall by ``method`` ("static": the resultant law to collapse or
-    ``max_steps``; "limit": the associated limit analysis, resultant model, an upper bound),
-    timed after a warm-up from the built scene; with this process's peak resident memory
-    before and after [MiB]."""
+    ``max_steps``; "limit": the associated static programme, resultant model, an upper bound
+    with its bar from the solver's certificate), timed after a warm-up from the built scene;
+    with this process's peak resident memory before and after [MiB]."""
     scene = in_plane_wall(*IN_PLANE_SIZES[size])
     scene.assembly.interfaces()
     _warm_up(method)
@@ -344,7 +344,8 @@ def run_in_plane(size: int, method: str, max_steps: int | None = None) -> dict:
     if method == "static":
         row |= _static_row(scene, max_steps)
     else:
-        res = limit_analysis(scene, LimitSettings(interface_model="resultant"))
+        problem = build_static_problem(scene, LimitSettings(interface_model="resultant"))
+        res = solve_static(problem)
         est = res.lambda_estimate
         row |= {"lam": res.lam, "lam_error": est.error, "termination": res.status}
     row["wall_s"] = time.perf_counter() - start
@@ -392,10 +393,8 @@ def _limit_line(st: dict, li: dict) -> str:
     )
 
 
-def _growth(st: dict, last: dict | None) -> str:
+def _growth(st: dict, last: dict) -> str:
     """Exponents of the time per iteration and of the total time against the size."""
-    if last is None:
-        return ""
     per = [r["wall_s"] / max(r["iterations"], 1) for r in (last, st)]
     k_it = math.log(per[1] / per[0]) / math.log(st["dofs"] / last["dofs"])
     k_all = math.log(st["wall_s"] / last["wall_s"]) / math.log(st["blocks"] / last["blocks"])
@@ -405,10 +404,11 @@ def _growth(st: dict, last: dict | None) -> str:
     )
 
 
-def in_plane(sizes, max_steps: int | None = None) -> None:
-    """Every in-plane wall of ``sizes`` with both methods, each in a fresh subprocess (so its
-    peak memory is its own); the static path to collapse, or ``max_steps`` steps (which
-    measures the cost per iteration of the larger walls in a bounded time)."""
+def in_plane(sizes, max_steps: int | None = None, limit: bool = True) -> None:
+    """Every in-plane wall of ``sizes`` with the static DEM and (``limit``) the limit analysis,
+    each in a fresh subprocess (so its peak memory is its own); the static path to collapse,
+    or ``max_steps`` steps (which measures the cost per iteration of the larger walls in a
+    bounded time)."""
     print("== in-plane running-bond walls, live load = weight along +x ==")
     cap = "to collapse" if max_steps is None else f"at most {max_steps} steps"
     print(f"static DEM (resultant law) {cap}, under cProfile; load average at start: "
@@ -416,10 +416,11 @@ def in_plane(sizes, max_steps: int | None = None) -> None:
     last = None
     for size in sizes:
         st = _subprocess_row(size, "static", max_steps)
-        li = _subprocess_row(size, "limit", None)
-        for line in (_static_line(st), _limit_line(st, li), _growth(st, last)):
-            if line:
-                print(line, flush=True)
+        print(_static_line(st), flush=True)
+        if last is not None:
+            print(_growth(st, last), flush=True)
+        if limit:
+            print(_limit_line(st, _subprocess_row(size, "limit", None)), flush=True)
         print(f"{'':20s}| load average {_load()[0]:.1f}", flush=True)
         last = st
 
@@ -451,6 +452,7 @@ def main(argv=None) -> None:
     parser.add_argument(
         "--in-plane-steps", type=int, help="--in-plane: stop each static path after so many steps"
     )
+    parser.add_argument("--no-limit", action="store_true", help="--in-plane: the static DEM alone")
     parser.add_argument("--in-plane-one", help=argparse.SUPPRESS)  # SIZE:METHOD:STEPS
     args = parser.parse_args(argv)
     if args.in_plane_one:
@@ -458,7 +460,8 @@ def main(argv=None) -> None:
         print(json.dumps(run_in_plane(int(size), method, int(steps) or None)))
         return
     if args.in_plane:
-        in_plane([int(x) for x in args.in_plane.split(",")], args.in_plane_steps)
+        sizes = [int(x) for x in args.in_plane.split(",")]
+        in_plane(sizes, args.in_plane_steps, limit=not args.no_limit)
         return
     names = args.walls.split(",")
     if args.table2:
