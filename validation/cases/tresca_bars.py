@@ -52,7 +52,9 @@ def imbalance_tolerance(res: TrescaResult, settings: TrescaSettings) -> float:
     if res.selection != "min_energy":
         return settings.feas_tol
     forces = np.concatenate([res.normal_force, res.tangential_force])
-    return settings.qp_tol * max(1.0, scale, float(np.max(np.abs(forces)))) / scale
+    # the rule bounds each component; a cell's imbalance is the norm of two of them
+    bound = settings.qp_tol * max(1.0, scale, float(np.max(np.abs(forces))))
+    return np.sqrt(2.0) * bound / scale
 
 
 def gap_tolerance(packing, res: TrescaResult, settings: TrescaSettings) -> float:
