@@ -369,25 +369,61 @@ def capacity_centroid(regions, counts, beta):
 
 
 @njit(cache=True)
-def inside_bicone(sigma_t, regions, counts, beta, band, acc):
-    """Whether the trial lies inside ``K`` by more than ``band``, from an inner set: the hull
-    of the sliding disc ``{(V, ybar x V): |V| <= V_u}`` (translations: every point slides
-    along ``V``; ``ybar`` the centroid of the capacity) and the support points ``+-p`` of
-    the twist about ``ybar``. Sufficient, not necessary; one support evaluation."""
-    v_u, c1, c2 = capacity_centroid(regions, counts, beta)
-    if v_u <= 0.0:
-        return False
-    support(np.array((c2, -c1, 1.0)), regions, counts, beta, acc)
-    a, b = acc[1], acc[2]
-    apex = acc[3] - (c1 * b - c2 * a)  # the twist's torsion about ybar
-    if apex <= 0.0:
-        return False
-    t = (sigma_t[2] - (c1 * sigma_t[1] - c2 * sigma_t[0])) / apex
+def polar_capacity(regions, counts, beta, c1, c2):
+    """``(J, r)``: ``int tau |y - c|^2 dA`` [N m] and the largest distance of a corner of the
+    capacity's parts from ``c = (c1, c2)`` [m] (fans of triangles, each integrated by the
+    4-point rule exact for cubics)."""
+    bary = ((1.0 / 3.0, 1.0 / 3.0), (0.6, 0.2), (0.2, 0.6), (0.2, 0.2))
+    weights = (-27.0 / 48.0, 25.0 / 48.0, 25.0 / 48.0, 25.0 / 48.0)
+    polar, reach = 0.0, 0.0
+    for k in range(3):
+        n = counts[k]
+        if n < 3:
+            continue
+        poly, b = regions[k], beta[k]
+        for j in range(n):
+            reach = max(reach, math.hypot(poly[j, 0] - c1, poly[j, 1] - c2))
+        for j in range(1, n - 1):
+            e1, e2 = poly[j] - poly[0], poly[j + 1] - poly[0]
+            area = 0.5 * (e1[0] * e2[1] - e1[1] * e2[0])
+            for i in range(4):
+                y = poly[0] + bary[i][0] * e1 + bary[i][1] * e2
+                tau = b[0] + b[1] * y[0] + b[2] * y[1]
+                polar += area * weights[i] * tau * ((y[0] - c1) ** 2 + (y[1] - c2) ** 2)
+    return polar, reach
+
+
+@njit(cache=True)
+def _in_cone(sigma_t, v_u, c1, c2, apex, band):
+    """Whether the trial lies by more than ``band`` inside the hull of the disc
+    ``{(V, ybar x V): |V| <= V_u}`` and the points ``+-apex`` (``(a, b, M)`` about the
+    reference, ``M`` taken about ``ybar = (c1, c2)`` positive)."""
+    t = (sigma_t[2] - (c1 * sigma_t[1] - c2 * sigma_t[0])) / apex[2]
     shrink = 1.0 - 2.0 * band
     if abs(t) >= shrink:
         return False
     radius = (1.0 - abs(t)) * v_u * shrink
-    return math.hypot(sigma_t[0] - t * a, sigma_t[1] - t * b) < radius
+    return math.hypot(sigma_t[0] - t * apex[0], sigma_t[1] - t * apex[1]) < radius
+
+
+@njit(cache=True)
+def inside_bicone(sigma_t, regions, counts, beta, band, acc):
+    """Whether the trial lies inside ``K`` by more than ``band``, from inner sets: hulls of
+    the sliding disc ``{(V, ybar x V): |V| <= V_u}`` (translations: every point slides along
+    ``V``; ``ybar`` the centroid of the capacity) and two points of pure torsion about
+    ``ybar``. First ``+-(0, 0, J / r)`` (the traction ``tau |y - ybar| / r`` across the
+    radii: no net shear, as ``ybar`` is the centroid; moments only), then the support points
+    of the twist about ``ybar`` (one support evaluation). Sufficient, not necessary."""
+    v_u, c1, c2 = capacity_centroid(regions, counts, beta)
+    if v_u <= 0.0:
+        return False
+    polar, reach = polar_capacity(regions, counts, beta, c1, c2)
+    if polar > 0.0 and _in_cone(sigma_t, v_u, c1, c2, np.array((0.0, 0.0, polar / reach)), band):
+        return True
+    support(np.array((c2, -c1, 1.0)), regions, counts, beta, acc)
+    a, b = acc[1], acc[2]
+    apex = np.array((a, b, acc[3] - (c1 * b - c2 * a)))  # the twist's torsion about ybar
+    return apex[2] > 0.0 and _in_cone(sigma_t, v_u, c1, c2, apex, band)
 
 
 @njit(cache=True)

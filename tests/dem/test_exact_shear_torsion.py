@@ -103,6 +103,13 @@ def test_pure_torsion_of_a_rectangle_is_mu_N_times_its_mean_distance(sides):
     expected = MU * 1e5 * area * torsion_coefficient_rectangle(l1, l2)
     np.testing.assert_allclose(acc[3], expected, rtol=1e-10)
     np.testing.assert_allclose(acc[1:3], 0.0, atol=1e-10 * expected / l1)
+    # the capacity's polar moment about its centroid: mu p A (l1^2 + l2^2) / 12
+    v_u, c1, c2 = fd.capacity_centroid(regions, counts, beta)
+    polar, reach = fd.polar_capacity(regions, counts, beta, c1, c2)
+    np.testing.assert_allclose(v_u, MU * 1e5 * area, rtol=1e-12)
+    np.testing.assert_allclose([c1, c2], 0.0, atol=1e-14)
+    np.testing.assert_allclose(polar, MU * 1e5 * area * (l1**2 + l2**2) / 12, rtol=1e-12)
+    np.testing.assert_allclose(reach, math.hypot(l1, l2) / 2, rtol=1e-12)
     # pure sliding: mu N along the slip, no torsion about the centre
     fd.support(np.array([0.6, 0.8, 0.0]), regions, counts, beta, acc)
     np.testing.assert_allclose(acc[1:4], MU * 1e5 * area * np.array([0.6, 0.8, 0.0]), atol=1e-9)
