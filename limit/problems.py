@@ -28,7 +28,9 @@ with ``A_eq = -H^T`` (:mod:`limit.matrices`) and one convex admissible set
 
     which is convex for :math:`\alpha \ge 1` and is written exactly as one power cone
     :math:`|M_3| \le (c_T\mu\tau_1)^{1/\alpha}(c_T\mu c)^{1-1/\alpha}`, one rotated
-    second-order cone :math:`\|V\|^2 \le \mu^2 \tau_2 c` and :math:`\tau_1 + \tau_2 \le c`.
+    second-order cone :math:`\|V\|^2 \le \mu^2 \tau_2 c` and :math:`\tau_1 + \tau_2 \le c`
+    (with fixed capacities, second-order cones in place of the power cone where ``1/alpha``
+    is a fraction of small denominator, as the seed's 1.5: :func:`limit.cones.power_mean`).
     It contains the Coulomb circle and :math:`|M_3| \le c_T \mu c`. ``torsion="independent"``
     keeps only these two (no interaction: a larger set). Like the seed's law it measures the
     torsion about the interface centroid, whereas with an eccentric normal force the friction
@@ -59,6 +61,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from dem.scene import Scene
+from limit.cones import power_mean, rotated_soc
 from limit.matrices import (
     equilibrium_matrix,
     interface_friction,
@@ -564,14 +567,7 @@ def _resultant_programme(data: _ScaledData, settings, friction: str, lam) -> _Pr
     own = sp.csr_matrix((h / length, (np.arange(len(h)), owner)), shape=(len(h), m))
     rocking = g[:, 3::6] @ m1 + g[:, 4::6] @ m2 <= own @ c_hat
     prog = _Programme(eq, [eq, c_hat >= 0, rocking], list(fv), f_map, mu_par)
-    r = None
-    if settings.friction_polygon is not None:
-        r = cp.Variable(m, name="shear_gauge")
-        dirs, cosk = _polygon_directions(settings.friction_polygon)
-        prog.constraints += [d[0] * v1 + d[1] * v2 <= cosk * r for d in dirs]
-        prog.x_vars.append(r)
-        prog.f_map = sp.hstack([prog.f_map, sp.csr_matrix((6 * m, m))]).tocsr()
-    _resultant_friction(prog, data, settings, friction, fv, r, c_hat, finite)
+    _resultant_friction(prog, data, settings, friction, fv, c_hat, finite)
     if settings.torsion_bending:
         if friction != "coulomb":
             raise ValueError("torsion_bending is available for the associated problem only")
@@ -585,19 +581,22 @@ def _resultant_programme(data: _ScaledData, settings, friction: str, lam) -> _Pr
     return prog
 
 
-def _resultant_friction(prog, data, settings, friction, fv, r, c_hat, finite) -> None:
+def _resultant_friction(prog, data, settings, friction, fv, c_hat, finite) -> None:
     """Friction and torsion of the resultant model on the interfaces with finite mu (mu = inf:
-    no sliding, no torsion slip): the Coulomb circle (or polygon gauge ``r``) and
-    ``|M3| <= c_T mu c`` (``torsion="independent"``), or the exact torsion-shear interaction
-    of seed 001 Eq. 14 as one power cone and one rotated second-order cone."""
+    no sliding, no torsion slip): the Coulomb circle (or the polygon of its gauge, module
+    notes) and ``|M3| <= c_T mu c`` (``torsion="independent"``), or the exact torsion-shear
+    interaction of seed 001 Eq. 14 (module notes).
+
+    With fixed capacities the cones bound ``V / cap_s`` and ``M3 / cap_t`` (new variables,
+    ``V = cap_s V'``, ``M3 = cap_t M3'``) by one: a capacity that vanishes (an open joint of
+    the previous iterate) or nearly does then leaves every cone with an interior of unit
+    size, where a cone of radius ``cap`` would have almost none."""
     m = data.interfaces.n_interfaces
     sel = _subset(finite) or (lambda e: e[np.zeros(0, dtype=np.int64)])
     n_f = int(finite.sum())
     ct_hat = (data.c_t / data.length)[finite]
     c_f, mu_f = sel(c_hat), sel(prog.mu)
     v1, v2, m3 = sel(fv[1]), sel(fv[2]), sel(fv[5])
-    r = None if r is None else sel(r)
-    shear = cp.vstack([v1, v2])
     if friction == "coulomb":
         cap_s = cp.multiply(mu_f, c_f)
         cap_t = cp.multiply(cp.multiply(ct_hat, mu_f), c_f)
@@ -605,10 +604,19 @@ def _resultant_friction(prog, data, settings, friction, fv, r, c_hat, finite) ->
         cap_s_par = cp.Parameter(m, nonneg=True, name="capacity_shear", value=np.zeros(m))
         cap_t_par = cp.Parameter(m, nonneg=True, name="capacity_torsion", value=np.zeros(m))
         prog.capacity["shear"], prog.capacity["torsion"] = cap_s_par, cap_t_par
-        cap_s, cap_t = sel(cap_s_par), sel(cap_t_par)
+        if n_f:
+            caps = (sel(cap_s_par), sel(cap_s_par), sel(cap_t_par))
+            v1, v2, m3 = _per_capacity(prog, (v1, v2, m3), caps, n_f)
+        cap_s = cap_t = np.ones(n_f)
     cons = prog.constraints
     if n_f == 0:
         return
+    shear, r = cp.vstack([v1, v2]), None
+    if settings.friction_polygon is not None:
+        r = cp.Variable(n_f, name="shear_gauge")
+        dirs, cosk = _polygon_directions(settings.friction_polygon)
+        cons += [d[0] * v1 + d[1] * v2 <= cosk * r for d in dirs]
+        _append_unknowns(prog, [r])
     if settings.torsion == "independent":
         cons.append(cp.SOC(cap_s, shear, axis=0) if r is None else r <= cap_s)
         cons += [m3 <= cap_t, -m3 <= cap_t]
@@ -618,8 +626,7 @@ def _resultant_friction(prog, data, settings, friction, fv, r, c_hat, finite) ->
     tau1 = cp.Variable(n_f, name="tau_torsion")
     tau2 = cp.Variable(n_f, name="tau_shear")
     cons += [tau1 >= 0, tau2 >= 0]
-    prog.x_vars += [tau1, tau2]
-    prog.f_map = sp.hstack([prog.f_map, sp.csr_matrix((6 * m, 2 * n_f))]).tocsr()
+    _append_unknowns(prog, [tau1, tau2])
     if friction == "coulomb":
         # |M3| <= (cT mu tau1)^(1/alpha) (cT mu c)^(1 - 1/alpha); |V|^2 <= mu^2 tau2 c
         k_t = cp.multiply(ct_hat, mu_f)
@@ -627,14 +634,30 @@ def _resultant_friction(prog, data, settings, friction, fv, r, c_hat, finite) ->
         u, w = cp.multiply(mu_f, tau2), cap_s
         cons.append(tau1 + tau2 <= c_f)
     else:
-        # normalised: tau1 + tau2 <= 1, |M3| <= cap_t tau1^(1/alpha), |V|^2 <= cap_s^2 tau2
-        cons.append(cp.PowCone3D(cp.multiply(cap_t, tau1), cap_t, m3, 1.0 / alpha))
-        u, w = cp.multiply(cap_s, tau2), cap_s
+        # per capacity: tau1 + tau2 <= 1, |M3'| <= tau1^(1/alpha), |V'|^2 <= tau2
+        cons += power_mean(m3, tau1, cap_t, 1.0 / alpha, n_f)
+        u, w = tau2, cap_s
         cons.append(tau1 + tau2 <= 1)
     if r is None:
         cons.append(cp.SOC(u + w, cp.vstack([2 * v1, 2 * v2, u - w]), axis=0))
     else:
         cons.append(cp.SOC(u + w, cp.vstack([2 * r, u - w]), axis=0))
+
+
+def _append_unknowns(prog, variables: list) -> None:
+    """Stack auxiliary unknowns (no force of their own) after the others in ``x``."""
+    prog.x_vars += variables
+    n = sum(v.size for v in variables)
+    prog.f_map = sp.hstack([prog.f_map, sp.csr_matrix((prog.f_map.shape[0], n))]).tocsr()
+
+
+def _per_capacity(prog, values: tuple, caps: tuple, n: int) -> list:
+    """Unknowns ``q'`` with ``q = cap q'`` for each (value, capacity) pair, all of size ``n``
+    (the equalities join the programme)."""
+    unit = [cp.Variable(n, name=f"per_capacity_{i}") for i in range(len(values))]
+    prog.constraints += [q == cp.multiply(c, u) for q, c, u in zip(values, caps, unit, strict=True)]
+    _append_unknowns(prog, unit)
+    return unit
 
 
 def _rectangle_ct(l1: np.ndarray, l2: np.ndarray) -> np.ndarray:
@@ -703,16 +726,10 @@ def _compressive_cone(cons, interfaces, settings, weight, length, c_hat, m1_hat,
         a <= cp.multiply(lu, c_hat) + 2 * ceu,
         b <= cp.multiply(lv, c_hat) - 2 * cev,
         b <= cp.multiply(lv, c_hat) + 2 * cev,
-        _rotated_soc(w, a, b),
-        _rotated_soc(root, c_hat, np.ones(m)),
-        _rotated_soc(c_hat, math.sqrt(kappa) * w, root),
+        rotated_soc(w, a, b),
+        rotated_soc(root, c_hat, np.ones(m)),
+        rotated_soc(c_hat, math.sqrt(kappa) * w, root),
     ]
-
-
-def _rotated_soc(x, y, z) -> cp.Constraint:
-    r""":math:`x^2 \le y z` with :math:`y, z \ge 0`, elementwise, as the second-order cone
-    :math:`\|(2x, y - z)\| \le y + z`."""
-    return cp.SOC(y + z, cp.vstack([2 * x, y - z]), axis=0)
 
 
 @dataclass(eq=False)

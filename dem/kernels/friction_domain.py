@@ -45,7 +45,7 @@ import math
 import numpy as np
 from numba import njit
 
-from dem.kernels.contact_stress import MAX_VERTICES, clip_half_plane
+from dem.kernels.contact_stress import MAX_VERTICES, clip_half_plane, origin_moments
 
 MAX_REGION = MAX_VERTICES + 3  # corners of a part after the two cuts (and a spare)
 FAR = 8.0  # rotation centres further than FAR part radii leave the integrands smooth
@@ -284,7 +284,9 @@ def _unit(d, C):
 @njit(cache=True)
 def _max_direction(sigma_t, C, regions, counts, beta, band, acc):
     """The direction of largest ``rho`` (module notes), stopped at the first with
-    ``rho > -band h``. Returns ``(d, rho)``; ``acc`` holds the support terms at ``d``."""
+    ``rho > -band h``, or where the gradient on the sphere is below ``1e-3 |rho|`` (the
+    Newton step would then raise ``rho`` by a negligible part of the way to 0). Returns
+    ``(d, rho)``; ``acc`` holds the support terms at ``d``."""
     d = _unit(sigma_t / C, C)
     support(d, regions, counts, beta, acc)
     psi = sigma_t @ d - acc[0]
@@ -294,7 +296,7 @@ def _max_direction(sigma_t, C, regions, counts, beta, band, acc):
         if psi > -band * acc[0]:
             break
         step, size = _ascent_step(sigma_t, C, d, psi, acc)
-        if size <= 1e-9 * abs(psi) or size <= 1e-15 * scale:
+        if size <= 1e-3 * abs(psi) or size <= 1e-15 * scale:
             break
         moved = False
         for _ in range(30):
@@ -347,6 +349,84 @@ def _minimise(sigma_t, C, w, regions, counts, beta, acc):
 
 
 @njit(cache=True)
+def capacity_centroid(regions, counts, beta):
+    """``(V_u, y1, y2)``: the total capacity ``int tau dA`` [N] and its centroid about the
+    reference point [m] (0 where the capacity is 0)."""
+    total, first1, first2 = 0.0, 0.0, 0.0
+    moments = np.empty(6)
+    for k in range(3):
+        if counts[k] < 3:
+            continue
+        moments[:] = 0.0
+        origin_moments(regions[k], counts[k], 1.0, moments)
+        b = beta[k]
+        total += b[0] * moments[0] + b[1] * moments[1] + b[2] * moments[2]
+        first1 += b[0] * moments[1] + b[1] * moments[3] + b[2] * moments[4]
+        first2 += b[0] * moments[2] + b[1] * moments[4] + b[2] * moments[5]
+    if total <= 0.0:
+        return 0.0, 0.0, 0.0
+    return total, first1 / total, first2 / total
+
+
+@njit(cache=True)
+def polar_capacity(regions, counts, beta, c1, c2):
+    """``(J, r)``: ``int tau |y - c|^2 dA`` [N m] and the largest distance of a corner of the
+    capacity's parts from ``c = (c1, c2)`` [m] (fans of triangles, each integrated by the
+    4-point rule exact for cubics)."""
+    bary = ((1.0 / 3.0, 1.0 / 3.0), (0.6, 0.2), (0.2, 0.6), (0.2, 0.2))
+    weights = (-27.0 / 48.0, 25.0 / 48.0, 25.0 / 48.0, 25.0 / 48.0)
+    polar, reach = 0.0, 0.0
+    for k in range(3):
+        n = counts[k]
+        if n < 3:
+            continue
+        poly, b = regions[k], beta[k]
+        for j in range(n):
+            reach = max(reach, math.hypot(poly[j, 0] - c1, poly[j, 1] - c2))
+        for j in range(1, n - 1):
+            e1, e2 = poly[j] - poly[0], poly[j + 1] - poly[0]
+            area = 0.5 * (e1[0] * e2[1] - e1[1] * e2[0])
+            for i in range(4):
+                y = poly[0] + bary[i][0] * e1 + bary[i][1] * e2
+                tau = b[0] + b[1] * y[0] + b[2] * y[1]
+                polar += area * weights[i] * tau * ((y[0] - c1) ** 2 + (y[1] - c2) ** 2)
+    return polar, reach
+
+
+@njit(cache=True)
+def _in_cone(sigma_t, v_u, c1, c2, apex, band):
+    """Whether the trial lies by more than ``band`` inside the hull of the disc
+    ``{(V, ybar x V): |V| <= V_u}`` and the points ``+-apex`` (``(a, b, M)`` about the
+    reference, ``M`` taken about ``ybar = (c1, c2)`` positive)."""
+    t = (sigma_t[2] - (c1 * sigma_t[1] - c2 * sigma_t[0])) / apex[2]
+    shrink = 1.0 - 2.0 * band
+    if abs(t) >= shrink:
+        return False
+    radius = (1.0 - abs(t)) * v_u * shrink
+    return math.hypot(sigma_t[0] - t * apex[0], sigma_t[1] - t * apex[1]) < radius
+
+
+@njit(cache=True)
+def inside_bicone(sigma_t, regions, counts, beta, band, acc):
+    """Whether the trial lies inside ``K`` by more than ``band``, from inner sets: hulls of
+    the sliding disc ``{(V, ybar x V): |V| <= V_u}`` (translations: every point slides along
+    ``V``; ``ybar`` the centroid of the capacity) and two points of pure torsion about
+    ``ybar``. First ``+-(0, 0, J / r)`` (the traction ``tau |y - ybar| / r`` across the
+    radii: no net shear, as ``ybar`` is the centroid; moments only), then the support points
+    of the twist about ``ybar`` (one support evaluation). Sufficient, not necessary."""
+    v_u, c1, c2 = capacity_centroid(regions, counts, beta)
+    if v_u <= 0.0:
+        return False
+    polar, reach = polar_capacity(regions, counts, beta, c1, c2)
+    if polar > 0.0 and _in_cone(sigma_t, v_u, c1, c2, np.array((0.0, 0.0, polar / reach)), band):
+        return True
+    support(np.array((c2, -c1, 1.0)), regions, counts, beta, acc)
+    a, b = acc[1], acc[2]
+    apex = np.array((a, b, acc[3] - (c1 * b - c2 * a)))  # the twist's torsion about ybar
+    return apex[2] > 0.0 and _in_cone(sigma_t, v_u, c1, c2, apex, band)
+
+
+@njit(cache=True)
 def project(sigma_t, C, regions, counts, beta, band, out_s, out_A, out_B, out_G):
     """Closest point of ``K`` to the trial ``sigma_t`` in the energy of ``C`` (module notes).
 
@@ -378,6 +458,9 @@ def project(sigma_t, C, regions, counts, beta, band, out_s, out_A, out_B, out_G)
         out_s[:] = sigma_t  # the origin: inside whenever the joint has a capacity
         return False
     acc = np.empty(N_ACC)
+    if inside_bicone(sigma_t, regions, counts, beta, band, acc):
+        out_s[:] = sigma_t
+        return False
     d, psi = _max_direction(sigma_t, C, regions, counts, beta, band, acc)
     if psi <= -band * acc[0]:
         out_s[:] = sigma_t

@@ -103,6 +103,13 @@ def test_pure_torsion_of_a_rectangle_is_mu_N_times_its_mean_distance(sides):
     expected = MU * 1e5 * area * torsion_coefficient_rectangle(l1, l2)
     np.testing.assert_allclose(acc[3], expected, rtol=1e-10)
     np.testing.assert_allclose(acc[1:3], 0.0, atol=1e-10 * expected / l1)
+    # the capacity's polar moment about its centroid: mu p A (l1^2 + l2^2) / 12
+    v_u, c1, c2 = fd.capacity_centroid(regions, counts, beta)
+    polar, reach = fd.polar_capacity(regions, counts, beta, c1, c2)
+    np.testing.assert_allclose(v_u, MU * 1e5 * area, rtol=1e-12)
+    np.testing.assert_allclose([c1, c2], 0.0, atol=1e-14)
+    np.testing.assert_allclose(polar, MU * 1e5 * area * (l1**2 + l2**2) / 12, rtol=1e-12)
+    np.testing.assert_allclose(reach, math.hypot(l1, l2) / 2, rtol=1e-12)
     # pure sliding: mu N along the slip, no torsion about the centre
     fd.support(np.array([0.6, 0.8, 0.0]), regions, counts, beta, acc)
     np.testing.assert_allclose(acc[1:4], MU * 1e5 * area * np.array([0.6, 0.8, 0.0]), atol=1e-9)
@@ -273,3 +280,44 @@ def test_a_block_pushed_and_twisted_slides_where_the_refined_fibre_law_does():
     assert bar.contains(exact) and bar.contains(fine), (bar, exact, fine)
     assert exact == pytest.approx(fine, rel=1e-4)
     assert not bar.contains(eq_a5)
+
+
+@pytest.mark.parametrize("poly", [RECTANGLE, TRIANGLE], ids=["rect", "tri"])
+def test_the_quick_inner_set_lies_inside_the_domain(poly):
+    """Trials the inner set (sliding disc and twist apexes) calls inside have no direction
+    w with s . w > h(w): checked by the direction search, and on 64 fixed directions."""
+    _, _, _, p = _moments(poly)
+    regions, beta = np.zeros((3, fd.MAX_REGION, 2)), np.zeros((3, 3))
+    sigma = np.array([-1e5, -4e5, 2e5])  # partly open: tau linear, off-centre capacity
+    counts = fd.capacity_regions(
+        p, len(p), sigma, np.array([0.0, np.inf]), np.array([0.0, MU]), np.zeros(2), regions, beta
+    )
+    v_u, c1, c2 = fd.capacity_centroid(regions, counts, beta)
+    acc = np.zeros(fd.N_ACC)
+    rng = np.random.default_rng(3)
+    directions = rng.standard_normal((64, 3)) * np.array([1.0, 1.0, 10.0])
+    C = np.array([1e8, 1e8, 3e6])
+    inside = 0
+    for _ in range(300):
+        trial = rng.uniform(-1, 1, 3) * v_u * np.array([1.0, 1.0, 0.1])
+        if not fd.inside_bicone(trial, regions, counts, beta, 1e-9, acc):
+            continue
+        inside += 1
+        _, psi = fd._max_direction(trial, C, regions, counts, beta, 1e-9, acc)
+        assert psi < 0
+        for w in directions:
+            fd.support(w, regions, counts, beta, acc)
+            assert trial @ w < acc[0]
+    assert inside > 20
+    assert v_u == pytest.approx(MU * abs(_law_normal_force(poly, sigma)), rel=1e-12)
+
+
+def _law_normal_force(poly, sigma):
+    """The normal force of the capped stress field, through the resultant law's kernel."""
+    from dem.kernels.contact_stress import stress_resultants
+
+    _, _, _, p = _moments(poly)
+    f, D = np.zeros(3), np.zeros((3, 3))
+    motion = np.array([sigma[0] / KN, sigma[2] / KN, -sigma[1] / KN])
+    stress_resultants(motion, p, len(p), np.array([KN, KN]), np.array([0.0, np.inf, 0.0]), f, D)
+    return f[0]

@@ -1,7 +1,8 @@
 """Small walls on which Clarabel failed: a finite compressive strength with the resultant model
 (nonsymmetric power cones stalled) and a fixed-capacity iteration (a re-solve kept the
 equilibration of the first data). Each now solves with a certificate and matches an
-independent expectation."""
+independent expectation. The cones that replace power cones, and the fixed-capacity cones per
+unit capacity, against closed forms."""
 
 import cvxpy as cp
 import numpy as np
@@ -12,6 +13,7 @@ from dem.scenes.running_bond_wall import running_bond_wall
 from dem.scenes.seed001_walls import RESTREPO_BLOCK_MM, RESTREPO_MU, RESTREPO_UNIT_WEIGHT
 from limit import estimates
 from limit.clarabel import solve_static
+from limit.cones import power_mean, rational_exponent
 from limit.estimates import iterative_estimate
 from limit.problems import LimitSettings, build_static_problem
 from limit.solve import limit_analysis
@@ -90,3 +92,41 @@ def test_fixed_capacity_iteration_on_a_wall_with_a_return_wall(monkeypatch):
         fresh = build_static_problem(scene, settings, friction="fixed_capacity")
         set_capacity(fresh, cap_n, fresh.mu_interface)
         np.testing.assert_allclose(lam, solve_static(fresh).lam, rtol=1e-12)
+
+
+@pytest.mark.parametrize("p", [2.0 / 3.0, 0.5, 3.0 / 5.0, 1.0 / 1.7])
+def test_power_mean_is_the_power_cone(p):
+    """max t s.t. |t| <= x^p y^(1-p) for fixed x, y, whether written as rotated second-order
+    cones (p = r/s with s <= 8) or as one power cone (1/1.7 = 10/17): x^p y^(1-p)."""
+    x, y = np.array([0.3, 2.0, 1e-3]), np.array([1.0, 0.05, 40.0])
+    t = cp.Variable(3)
+    cons = power_mean(t, x, y, p, 3)
+    assert (rational_exponent(p) is None) == any(isinstance(c, cp.PowCone3D) for c in cons)
+    cp.Problem(cp.Maximize(cp.sum(t)), cons).solve(solver=cp.CLARABEL)
+    np.testing.assert_allclose(t.value, x**p * y ** (1 - p), rtol=1e-7)
+    cp.Problem(cp.Minimize(cp.sum(t)), cons).solve(solver=cp.CLARABEL)
+    np.testing.assert_allclose(t.value, -(x**p) * y ** (1 - p), rtol=1e-7)
+
+
+@pytest.mark.parametrize("torsion", ["interaction", "independent"])
+@pytest.mark.parametrize("capacity", [1e-2, 1e-6, 0.0])
+def test_fixed_capacities_down_to_zero(torsion, capacity):
+    """Fixed-capacity programme (resultant model), closed forms: a squat block (b/h = 3)
+    pushed sideways slides at lambda W = C_s; a block under a unit torque twists at
+    lambda = C_t [N m]; each within the result's own error bar. A vanishing capacity (an
+    open joint of the previous iterate) gives lambda = 0."""
+    from tests.limit._scenes import block_on_ground, torsion_pair
+
+    settings = LimitSettings(interface_model="resultant", torsion=torsion, dead_load_check=False)
+    for scene, kind in (
+        (block_on_ground(0.6, 0.6, 0.2, mu=0.7), "shear"),
+        (torsion_pair(), "torsion"),
+    ):
+        fixed = build_static_problem(scene, settings, friction="fixed_capacity")
+        big = 1e3  # the other capacity never governs
+        fixed.capacity["shear"].value = np.array([capacity if kind == "shear" else big])
+        fixed.capacity["torsion"].value = np.array([capacity if kind == "torsion" else big])
+        res = solve_static(fixed)
+        # capacities are scaled by W (shear) and W L (torsion); the torque load is 1 N m
+        unit = 1.0 if kind == "shear" else fixed.weight * fixed.length
+        assert abs(res.lam - capacity * unit) <= res.lambda_estimate.error

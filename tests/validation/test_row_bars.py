@@ -16,12 +16,13 @@ from validation.report import staged
 
 SOLVER_DUAL = (
     "a solver's own dual of the Tresca LP: the admissible forces are not unique (seed 003 "
-    "Remark 4), so the value is the solver's choice, not a model answer a bar could bracket"
+    "Remark 4), so the value is the solver's choice; only its admissible range bounds it "
+    "(validation.cases.tresca_bars.admissible_range), not computed for the RT0 checks"
 )
 
 EXPLICIT = (
-    "an explicit DEM indentation run: its estimate (node spacing, loading rate, time step) is "
-    "the explicit helper's, to be wired in when it lands"
+    "an explicit DEM indentation quantity without a finite bar of its own (dem.explicit: the "
+    "loading energy's loading-rate rerun, or a run made with the 'none' budget)"
 )
 CROSSCHECK = "a cross-check line whose method gives no bar (validation.crosscheck)"
 ITERATION = (
@@ -30,10 +31,17 @@ ITERATION = (
 )
 
 EXEMPT: dict[str, tuple[tuple[str, str], ...]] = {
-    "tresca-verification": (("/solver]", SOLVER_DUAL),),
+    "tresca-verification": tuple(
+        (
+            f"60 cells [{solver}/solver]",
+            SOLVER_DUAL + ", and its 153 edges are above RANGE_MAX_EDGES",
+        )
+        for solver in ("CLARABEL", "HIGHS")
+    ),
     "tresca-reconstruction": (("/solver]", SOLVER_DUAL),),
     "fem-tis-stress": (("wall time", "a wall time on a shared machine has no converged value"),),
     "limit-orduna": (("estimate (b) fixed-capacity iteration", ITERATION),),
+    "limit-restrepo": (("estimate (b) fixed-capacity iteration", ITERATION),),
     "crosscheck-examples": tuple(
         (line, CROSSCHECK)
         for line in (
@@ -47,22 +55,13 @@ EXEMPT: dict[str, tuple[tuple[str, str], ...]] = {
     ),
     "tis-friction-uq": (("deterministic mu = 0.23: peak load", EXPLICIT),),
     "tis-gaps-uq": (("peak load", EXPLICIT),),
-    "tis-friction": tuple(
-        (q, EXPLICIT)
-        for q in (": peak load", ": deflection at peak", ": loading energy", "P_max(mu=")
-    )
-    + (("mean P_max of", EXPLICIT),),
+    "tis-friction": ((": loading energy", EXPLICIT),),
     "tis-panels": tuple(
         (q, EXPLICIT)
         for q in (
-            ": peak load",
-            ": deflection at peak",
             ": loading energy",
-            "P_calibrated / P_perfect",
             "LE_calibrated / LE_perfect",
-            "P_max ratio 3x3 / 5x5",
             "P_max / P_max(theta=2.5)",
-            "P_max(10 E) / P_max(E)",
         )
     ),
 }
