@@ -16,7 +16,8 @@ from validation.report import staged
 
 SOLVER_DUAL = (
     "a solver's own dual of the Tresca LP: the admissible forces are not unique (seed 003 "
-    "Remark 4), so the value is the solver's choice, not a model answer a bar could bracket"
+    "Remark 4), so the value is the solver's choice; only its admissible range bounds it "
+    "(validation.cases.tresca_bars.admissible_range), not computed for the RT0 checks"
 )
 
 EXPLICIT = (
@@ -30,7 +31,13 @@ ITERATION = (
 )
 
 EXEMPT: dict[str, tuple[tuple[str, str], ...]] = {
-    "tresca-verification": (("/solver]", SOLVER_DUAL),),
+    "tresca-verification": tuple(
+        (
+            f"60 cells [{solver}/solver]",
+            SOLVER_DUAL + ", and its 153 edges are above RANGE_MAX_EDGES",
+        )
+        for solver in ("CLARABEL", "HIGHS")
+    ),
     "tresca-reconstruction": (("/solver]", SOLVER_DUAL),),
     "fem-tis-stress": (("wall time", "a wall time on a shared machine has no converged value"),),
     "limit-orduna": (("estimate (b) fixed-capacity iteration", ITERATION),),

@@ -26,3 +26,23 @@ def test_tresca_reconstruction_quick(tmp_path):
         assert not (tmp_path / tresca.FIELDS_NPZ).exists()  # staged until the case ends
     _check(rows)
     assert (tmp_path / tresca.FIELDS_NPZ).exists()
+
+
+def test_admissible_range_holds_every_solvers_dual_and_the_uniform_stress():
+    """The normal stress of each edge over the admissible set contains what HiGHS (a vertex),
+    Clarabel (an interior point) and the min-energy rule (-p) return."""
+    import numpy as np
+
+    from limit.voronoi_packing import uniform_stress_traction, verification_packing
+    from validation.cases import tresca_bars as tb
+
+    packing = verification_packing("five-cells")
+    traction = uniform_stress_traction(packing, -tresca.PRESSURE * np.eye(2))
+    low, high = tb.admissible_range(packing, traction, tresca.S_VERIF, "normal")
+    assert np.all(low <= -tresca.PRESSURE) and np.all(-tresca.PRESSURE <= high)
+    for solver, selection in tresca._VARIANTS:
+        _, res = tresca._solve(
+            packing, -tresca.PRESSURE * np.eye(2), tresca.S_VERIF, solver, selection
+        )
+        assert np.all(low - 1e-6 <= res.normal_stress) and np.all(res.normal_stress <= high + 1e-6)
+    assert np.any(high - low > 1.0)  # the five-cell graph has a self-stress: not unique

@@ -52,7 +52,9 @@ def imbalance_tolerance(res: TrescaResult, settings: TrescaSettings) -> float:
     if res.selection != "min_energy":
         return settings.feas_tol
     forces = np.concatenate([res.normal_force, res.tangential_force])
-    return settings.qp_tol * max(1.0, scale, float(np.max(np.abs(forces)))) / scale
+    # the rule bounds each component; a cell's imbalance is the norm of two of them
+    bound = settings.qp_tol * max(1.0, scale, float(np.max(np.abs(forces))))
+    return np.sqrt(2.0) * bound / scale
 
 
 def gap_tolerance(packing, res: TrescaResult, settings: TrescaSettings) -> float:
@@ -159,3 +161,45 @@ def rt_bars(packing, stress_widths: np.ndarray) -> RtBars:
             parts.append(np.abs(rec.traction_moment))
             acc = parts if acc is None else [a + p for a, p in zip(acc, parts, strict=True)]
     return RtBars(*acc)
+
+
+RANGE_MAX_EDGES = 100
+"""Largest packing [internal edges] whose solver-dual rows get the admissible range: two LPs
+per edge (the 60-cell packing's 153 edges would cost more than the rest of the case)."""
+
+
+def admissible_range(packing, traction, s: float, component: str) -> np.ndarray | None:
+    """Least and largest stress [Pa] of each internal edge over every admissible force set
+    (seed 003 Eq. 12-14: cell balance, ``lambda >= 0``, ``|f_t| <= s|e|``), shape (2, n_edges):
+    the normal stress ``-lambda/|e|`` (``component="normal"``) or the shear ``f_t/|e|``. Two
+    LPs per edge (HiGHS); None above :data:`RANGE_MAX_EDGES`.
+
+    The duals a solver returns are one point of this set (seed 003 Remark 4): a stress of
+    theirs is determined by the model only to within its range."""
+    from scipy.optimize import linprog
+
+    n_e = packing.n_edges
+    if n_e > RANGE_MAX_EDGES:
+        return None
+    A = equilibrium_matrix(packing)
+    keep = slice(0, 2 * packing.n_cells - 2)  # the last balance follows (zero resultant)
+    b = -cell_loads(packing, traction).ravel()[keep]
+    cap = s * packing.edge_length
+    bounds = [(0.0, None)] * n_e + [(-c, c) for c in cap]
+    offset = 0 if component == "normal" else n_e
+    sign = -1.0 if component == "normal" else 1.0
+    out = np.empty((2, n_e))
+    for e in range(n_e):
+        for k, direction in enumerate((1.0, -1.0)):
+            c = np.zeros(2 * n_e)
+            c[offset + e] = direction * sign / packing.edge_length[e]
+            res = linprog(c, A_eq=A[keep], b_eq=b, bounds=bounds, method="highs")
+            if res.status != 0:
+                raise RuntimeError(f"admissible range of edge {e}: {res.message}")
+            out[k, e] = direction * res.fun
+    return out
+
+
+def range_bar(value: float, low: float, high: float) -> dict[str, float]:
+    """The half-width that puts every value of ``[low, high]`` in the bar of ``value``."""
+    return {"admissible range": max(value - low, high - value, 0.0)}

@@ -104,10 +104,13 @@ def _sweep(case: str, fn, params: list[dict], root_seed: int, quick: bool, prefi
     return latest_records(summary.directory / "results.jsonl")
 
 
-def _stats_rows(label: str, values, unit: str, settings: dict, reference=None, source="") -> list:
+def _stats_rows(
+    label: str, values, unit: str, settings: dict, reference=None, source="", kind="value"
+) -> list:
     """Mean (with its 95 % t and bootstrap intervals), std and the 5/50/95 % quantiles of a
     sample, each statistic with its seeded bootstrap interval (``extra["bootstrap"]``); the
-    row's ``ours`` is the mean with its bootstrap bar (source ``"sampling"``)."""
+    row's ``ours`` is the mean with its bootstrap bar (source ``"sampling"``), compared with
+    ``reference`` as :attr:`validation.report.Row.reference_kind` ``kind`` says."""
     v = np.asarray(values, dtype=float)
     mean, half = mean_ci(v) if v.size >= 2 else (float(v.mean()), math.nan)
     q05, q50, q95 = np.quantile(v, [0.05, 0.5, 0.95])
@@ -125,7 +128,8 @@ def _stats_rows(label: str, values, unit: str, settings: dict, reference=None, s
         "bootstrap": {name: ci.to_dict() for name, ci in boot.items()},
     }
     ours = boot["mean"].estimate if boot else mean
-    return [Row(f"{label}: mean [{unit}]", ours, reference, source, None, settings, extra)]
+    quantity = f"{label}: mean [{unit}]"
+    return [Row(quantity, ours, reference, source, None, settings, extra, reference_kind=kind)]
 
 
 def _curve(delta: np.ndarray, load: np.ndarray) -> dict:
@@ -617,8 +621,15 @@ def _realisation_rows(ok: list[dict], n_reals: int, spec, settings: dict) -> lis
         )
         rows[-1].extra["p_below_experiment"] = float(np.mean(lam <= exp))
     if upper.size >= 2:
+        # upper bounds: the experiment should lie at or below them (an inequality)
         rows += _stats_rows(
-            "limit upper bound lambda (vertex model)", upper, "-", settings, exp, spec.source
+            "limit upper bound lambda (vertex model)",
+            upper,
+            "-",
+            settings,
+            exp,
+            spec.source,
+            "lower bound",
         )
     pairs = [(r["lam_dem"], r["lam_upper"]) for r in collapsed if r["lam_upper"] is not None]
     if pairs:
