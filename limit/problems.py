@@ -28,7 +28,9 @@ with ``A_eq = -H^T`` (:mod:`limit.matrices`) and one convex admissible set
 
     which is convex for :math:`\alpha \ge 1` and is written exactly as one power cone
     :math:`|M_3| \le (c_T\mu\tau_1)^{1/\alpha}(c_T\mu c)^{1-1/\alpha}`, one rotated
-    second-order cone :math:`\|V\|^2 \le \mu^2 \tau_2 c` and :math:`\tau_1 + \tau_2 \le c`.
+    second-order cone :math:`\|V\|^2 \le \mu^2 \tau_2 c` and :math:`\tau_1 + \tau_2 \le c`
+    (with fixed capacities, second-order cones in place of the power cone where ``1/alpha``
+    is a fraction of small denominator, as the seed's 1.5: :func:`limit.cones.power_mean`).
     It contains the Coulomb circle and :math:`|M_3| \le c_T \mu c`. ``torsion="independent"``
     keeps only these two (no interaction: a larger set). Like the seed's law it measures the
     torsion about the interface centroid, whereas with an eccentric normal force the friction
@@ -583,7 +585,7 @@ def _resultant_friction(prog, data, settings, friction, fv, c_hat, finite) -> No
     """Friction and torsion of the resultant model on the interfaces with finite mu (mu = inf:
     no sliding, no torsion slip): the Coulomb circle (or the polygon of its gauge, module
     notes) and ``|M3| <= c_T mu c`` (``torsion="independent"``), or the exact torsion-shear
-    interaction of seed 001 Eq. 14 as one power cone and one rotated second-order cone.
+    interaction of seed 001 Eq. 14 (module notes).
 
     With fixed capacities the cones bound ``V / cap_s`` and ``M3 / cap_t`` (new variables,
     ``V = cap_s V'``, ``M3 = cap_t M3'``) by one: a capacity that vanishes (an open joint of
@@ -632,8 +634,7 @@ def _resultant_friction(prog, data, settings, friction, fv, c_hat, finite) -> No
         u, w = cp.multiply(mu_f, tau2), cap_s
         cons.append(tau1 + tau2 <= c_f)
     else:
-        # per capacity: tau1 + tau2 <= 1, |M3'| <= tau1^(1/alpha), |V'|^2 <= tau2; the
-        # torsion bound as second-order cones where 1/alpha allows (limit.cones)
+        # per capacity: tau1 + tau2 <= 1, |M3'| <= tau1^(1/alpha), |V'|^2 <= tau2
         cons += power_mean(m3, tau1, cap_t, 1.0 / alpha, n_f)
         u, w = tau2, cap_s
         cons.append(tau1 + tau2 <= 1)

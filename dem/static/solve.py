@@ -8,6 +8,7 @@ import time
 from dataclasses import replace
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from dem.estimate import ErrorBudget, Estimate, check_error_budget
 from dem.scene import Scene
@@ -23,6 +24,7 @@ from dem.static.settings import StaticSettings
 logger = logging.getLogger(__name__)
 
 
+@threadpool_limits.wrap(limits=1, user_api="blas")
 def solve_collapse(
     scene: Scene, settings: StaticSettings | None = None, *, error: ErrorBudget = "cheap"
 ) -> StaticResult:
@@ -63,6 +65,12 @@ def solve_collapse(
     The path following (control, step size, cascades, end) is described in
     :mod:`dem.static.path`, the Newton corrector in :mod:`dem.static.newton`, the mechanism
     check in :mod:`dem.static.mechanism`.
+
+    The BLAS runs on one thread during the call: the path's vector operations (norms, dot
+    products, GMRES's Arnoldi steps) are far too short for threads, whose start-up and waits
+    made them slower than serial many times over on a shared machine, and the sparse LU gains
+    nothing from them; one thread also makes the reductions' order, and so the result, the
+    same on every machine.
 
     Limitations found on the seed 001 specimens: kinematics are small-displacement, so the
     rocking uplift of either law (both hinge a joint on its edges) against immovable supports
