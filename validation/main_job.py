@@ -1,8 +1,9 @@
 """``python -m validation all``: one progress line per case, a summary table, the rest logged.
 
-The summary separates numerical errors (rows whose reference is a closed form, an exact count
-or another method) from model errors (rows whose reference is a seed's table or experiment),
-by :func:`validation.report.is_published`, as ``paper_figures/fig_speed_error.py`` does, and
+The summary separates numerical errors (rows whose reference is a value of our own model: a
+closed form, an exact count or another method) from model errors (rows whose reference is
+another model: a seed's table or experiment, an approximate formula), by
+:attr:`validation.report.Row.reference_is_model`, as ``paper_figures/fig_speed_error.py`` does, and
 counts the rows whose reference lies outside our error bar (numerical / model) and the rows
 whose bar is not estimated.
 """
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from validation.quiet import quiet, table
-from validation.report import Row, is_published
+from validation.report import Row
 
 
 @dataclass(frozen=True)
@@ -57,7 +58,7 @@ class CaseSummary:
             err = r.rel_error
             if err is None or not math.isfinite(err):
                 continue
-            kind = is_published(r.source)
+            kind = r.reference_is_model
             worst[kind] = err if worst[kind] is None else max(worst[kind], err)
         kinds = [r.error_kind for r in rows]
         no_bar = sum(r.ours is not None and math.isinf(r.ours_error) for r in rows)

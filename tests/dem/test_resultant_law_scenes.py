@@ -37,15 +37,7 @@ def _restrained_panel(courses):
     return Scene(scene.assembly, Supports(scene.supports.fixed, restrained), scene.loads)
 
 
-_SNAP_BACK_AT_0_079 = pytest.mark.xfail(
-    strict=True,
-    reason="open defect (issue 26): on the 5-course panel the resultant law's path snaps back "
-    "at lambda = 0.0786 after ~650 failed Newton iterations and that is reported as the "
-    "collapse, while the fibre law reaches 0.393 (numpy 2.4 / scipy 1.17)",
-)
-
-
-@pytest.mark.parametrize("courses", [pytest.param(5, marks=_SNAP_BACK_AT_0_079), 8])
+@pytest.mark.parametrize("courses", [5, 8])
 def test_restrained_panel_resultant_law_agrees_with_the_fibre_law(courses):
     # The free part cannot overturn about its base: a block rocking about an edge lifts, and
     # the held end blocks, interleaved in the bond, stop the lift; the panel fails by a
