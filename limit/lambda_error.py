@@ -11,8 +11,13 @@ of lambda:
 ``"feasibility"``
     The feasibility shift of the certificate: how far the optimum may move when every
     constraint is relaxed by what the returned point violates it by (duals as sensitivities,
-    first order). Together with the gap this is the solver's error; both are of the order of
-    Clarabel's tolerance.
+    first order).
+``"dual residual"``
+    The dual shift of the certificate: how far the optimum may lie above the dual bound
+    because the returned dual is off its cone or off stationarity (:math:`|r|^T|x| + \sum_i
+    \operatorname{dist}(z_i, K_i^*)\lVert g_i(x)\rVert`, :mod:`limit.certificates`); without it
+    the gap is no bound. Gap, feasibility and dual residual together are the solver's error,
+    each of the order of Clarabel's tolerance.
 ``"friction polygon"``
     Where ``friction_polygon = k``: the distance to the optimum of the same programme with
     the exact (second-order) cones, plus that solve's own solver error
@@ -55,18 +60,22 @@ def solver_estimate(lam: float, certificate: Certificate | None) -> Estimate:
     lam : float
         The returned multiplier [unit of lambda].
     certificate : Certificate or None
-        With ``dual_objective`` and ``feasibility_shift`` in the unit of lambda; None (no
-        certificate computed) gives an unknown error, never a silent zero.
+        With ``dual_objective``, ``feasibility_shift`` and ``dual_shift`` in the unit of
+        lambda; None (no certificate computed) gives an unknown error, never a silent zero.
     """
     if certificate is None:
         return Estimate.unknown(lam, "no certificate computed (certify=False)")
-    shift = certificate.feasibility_shift
-    if not math.isfinite(shift):
-        return Estimate.unknown(lam, "the certificate has no feasibility shift")
+    shift, dual = certificate.feasibility_shift, certificate.dual_shift
+    if not (math.isfinite(shift) and math.isfinite(dual)):
+        return Estimate.unknown(lam, "the certificate has no feasibility or dual shift")
     return Estimate(
         lam,
-        {"duality gap": abs(certificate.dual_objective - lam), "feasibility": shift},
-        notes="solver error of the programme's optimum (duality gap, primal violations)",
+        {
+            "duality gap": abs(certificate.dual_objective - lam),
+            "feasibility": shift,
+            "dual residual": dual,
+        },
+        notes="solver error of the programme's optimum (duality gap, primal and dual residuals)",
     )
 
 

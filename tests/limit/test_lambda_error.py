@@ -26,7 +26,7 @@ def test_bar_holds_the_closed_form_and_is_the_solvers_size(model, width, height,
     assert est.value == res.lam
     assert est.contains(min(mu, width / height))
     assert 0 < est.error < 1e-7
-    assert set(est.sources) == {"duality gap", "feasibility"}
+    assert set(est.sources) == {"duality gap", "feasibility", "dual residual"}
 
 
 def test_bar_holds_the_pure_torsion_closed_form():
