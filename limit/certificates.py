@@ -12,6 +12,10 @@ expressions, evaluated by us:
 - dual feasibility: membership of every dual in its dual cone, and stationarity probed at
   random points (the Lagrangian is affine, so its linear part must vanish);
 - the duality gap :math:`\sum_i z_i^T h_i - c^T x`, relative to ``max(1, |c^T x|)``;
+- the stationarity shift :math:`|r^T x|`, :math:`r = c + \sum_i G_i^T z_i` the Lagrangian's
+  linear part, at the returned point: for duals that are not exactly stationary the dual
+  bound holds only up to :math:`r^T x^*` (:math:`c^T x^* \le \sum_i z_i^T h_i + r^T x^*`), and
+  the returned point is the best estimate of :math:`x^*` there is;
 - the feasibility shift :math:`\sum_i |z_i|^T \operatorname{dist}(g_i(x), K_i)`: relaxing every
   constraint by its violation makes the returned point feasible, and moves the optimum by
   :math:`z_i^T \delta_i` to first order (the duals are the sensitivities of the optimum), so
@@ -79,6 +83,10 @@ class Certificate:
     feasibility_shift : float
         First-order change of the optimum that the primal violations can hide (module
         notes), in the unit of ``dual_objective``; ``nan`` where not computed.
+    stationarity_shift : float
+        ``|r^T x|``, how far the dual bound may miss for duals that are not exactly
+        stationary (module notes), in the unit of ``dual_objective``; ``nan`` where not
+        computed.
     """
 
     primal_residual: float
@@ -91,6 +99,7 @@ class Certificate:
     dual_objective: float
     local_residual: float = float("nan")
     feasibility_shift: float = float("nan")
+    stationarity_shift: float = float("nan")
 
     def worst(self, feasibility: bool = False) -> float:
         """Largest residual; with ``feasibility`` only the primal ones (for a programme whose
@@ -180,8 +189,8 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
     -------
     dict
         Keys ``primal_residual``, ``dual_cone_residual``, ``stationarity``, ``duality_gap``,
-        ``complementarity``, ``dual_objective`` and ``feasibility_shift`` (module notes; in the
-        unit of the objective, like ``dual_objective``).
+        ``complementarity``, ``dual_objective``, ``feasibility_shift`` and
+        ``stationarity_shift`` (module notes; the last three in the unit of the objective).
     """
     variables = problem.variables()
     saved = [v.value for v in variables]
@@ -192,6 +201,9 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
         v.save_value(np.zeros(v.shape))
     g_0 = _g_values(pairs)
     dual_obj, _ = _pairing(pairs, g_0)
+    objective_0 = float(problem.objective.expr.value)
+    # r^T x = L(x) - L(0), the Lagrangian L = objective + sum z . g being affine
+    stationarity_shift = abs((objective + comp) - (objective_0 + dual_obj))
     stat = _stationarity(problem, variables, pairs, g_0, n_probes, np.random.default_rng(seed))
     for v, val in zip(variables, saved, strict=True):
         v.save_value(val)
@@ -205,6 +217,7 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
         "complementarity": comp / max(denom, 1e-300),
         "dual_objective": dual_obj,
         "feasibility_shift": float(shift),
+        "stationarity_shift": float(stationarity_shift),
     }
 
 

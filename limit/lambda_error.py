@@ -13,6 +13,10 @@ of lambda:
     constraint is relaxed by what the returned point violates it by (duals as sensitivities,
     first order). Together with the gap this is the solver's error; both are of the order of
     Clarabel's tolerance.
+``"dual stationarity"``
+    The stationarity shift of the certificate: the dual bound is a bound only for duals
+    that make the Lagrangian stationary; for the returned duals it may miss by the
+    Lagrangian's linear part at the optimum, estimated at the returned point.
 ``"friction polygon"``
     Where ``friction_polygon = k``: the distance to the optimum of the same programme with
     the exact (second-order) cones, plus that solve's own solver error
@@ -63,10 +67,14 @@ def solver_estimate(lam: float, certificate: Certificate | None) -> Estimate:
     shift = certificate.feasibility_shift
     if not math.isfinite(shift):
         return Estimate.unknown(lam, "the certificate has no feasibility shift")
+    sources = {"duality gap": abs(certificate.dual_objective - lam), "feasibility": shift}
+    if math.isfinite(certificate.stationarity_shift):
+        sources["dual stationarity"] = certificate.stationarity_shift
     return Estimate(
         lam,
-        {"duality gap": abs(certificate.dual_objective - lam), "feasibility": shift},
-        notes="solver error of the programme's optimum (duality gap, primal violations)",
+        sources,
+        notes="solver error of the programme's optimum (duality gap, dual stationarity, "
+        "primal violations)",
     )
 
 
