@@ -18,14 +18,16 @@ expressions, evaluated by us:
   this is how far the objective of an infeasible point may lie from the optimum beyond the
   gap. Elementwise for zero and nonnegative cones, cone by cone (norm of the dual times the
   distance) for second-order cones, norm times distance for a power-cone constraint;
-- the dual shift: for any feasible :math:`x^*`, :math:`c^T x^* = \sum_i z_i^T h_i + r^T x^*
-  - \sum_i z_i^T g_i(x^*)` with the stationarity residual :math:`r = c + \sum_i G_i^T z_i`,
-  and :math:`-z_i^T g_i(x^*) \le \operatorname{dist}(z_i, K_i^*) \lVert g_i(x^*) \rVert`, so a
-  dual off its cone or off stationarity lifts the optimum above the dual bound by at most
-  :math:`|r|^T |x^*| + \sum_i \operatorname{dist}(z_i, K_i^*) \lVert g_i(x^*) \rVert`; read
-  at the returned point (first order, as the feasibility shift), with :math:`r` exact (the
-  gradient of the affine Lagrangian) and the distances bounded by a correction that puts
-  each dual into its cone.
+- the stationarity and dual-cone shifts: for any feasible :math:`x^*`,
+  :math:`c^T x^* = \sum_i z_i^T h_i + r^T x^* - \sum_i z_i^T g_i(x^*)` with the Lagrangian's
+  linear part :math:`r = c + \sum_i G_i^T z_i`, and :math:`-z_i^T g_i(x^*) \le
+  \operatorname{dist}(z_i, K_i^*) \lVert g_i(x^*) \rVert`, so a dual off stationarity or off
+  its cone lifts the optimum above the dual bound by at most :math:`|r|^T |x^*|` (the
+  stationarity shift) plus :math:`\sum_i \operatorname{dist}(z_i, K_i^*) \lVert g_i(x^*)
+  \rVert` (the dual-cone shift). Both are read at the returned point (first order, as the
+  feasibility shift; it is the best estimate of :math:`x^*` there is), :math:`r` exactly (the
+  gradient of the affine Lagrangian), each distance bounded by a correction that puts the
+  dual into its cone.
 
 cvxpy's conventions (checked in the tests on a catalogue of tiny problems): an ``Equality``
 ``a == b`` has :math:`g = a - b` and :math:`z = -y`; an ``Inequality`` ``a <= b`` has
@@ -87,10 +89,13 @@ class Certificate:
     feasibility_shift : float
         First-order change of the optimum that the primal violations can hide (module
         notes), in the unit of ``dual_objective``; ``nan`` where not computed.
-    dual_shift : float
-        How far the optimum may lie above ``dual_objective`` because the dual is off its cone
-        or off stationarity (module notes), in the unit of ``dual_objective``; ``nan`` where
-        not computed.
+    stationarity_shift : float
+        ``|r|^T |x|``, how far the optimum may lie above ``dual_objective`` for duals that
+        are not exactly stationary (module notes), in the unit of ``dual_objective``; ``nan``
+        where not computed.
+    dual_cone_shift : float
+        The same for duals outside their dual cones (module notes); ``nan`` where not
+        computed.
     """
 
     primal_residual: float
@@ -103,7 +108,8 @@ class Certificate:
     dual_objective: float
     local_residual: float = float("nan")
     feasibility_shift: float = float("nan")
-    dual_shift: float = float("nan")
+    stationarity_shift: float = float("nan")
+    dual_cone_shift: float = float("nan")
 
     def worst(self, feasibility: bool = False) -> float:
         """Largest residual; with ``feasibility`` only the primal ones (for a programme whose
@@ -197,8 +203,9 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
     -------
     dict
         Keys ``primal_residual``, ``dual_cone_residual``, ``stationarity``, ``duality_gap``,
-        ``complementarity``, ``dual_objective``, ``feasibility_shift`` and ``dual_shift``
-        (module notes; the last three in the unit of the objective).
+        ``complementarity``, ``dual_objective``, ``feasibility_shift``,
+        ``stationarity_shift`` and ``dual_cone_shift`` (module notes; the last four in the
+        unit of the objective).
     """
     variables = problem.variables()
     saved = [v.value for v in variables]
@@ -213,7 +220,6 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
     for v, val in zip(variables, saved, strict=True):
         v.save_value(val)
     primal, shift = _primal_residual_and_shift(pairs)
-    dual_shift = _stationarity_shift(problem, pairs) + _dual_cone_shift(pairs)
     denom = max(1.0, abs(objective))
     return {
         "primal_residual": primal,
@@ -223,7 +229,8 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
         "complementarity": comp / max(denom, 1e-300),
         "dual_objective": dual_obj,
         "feasibility_shift": float(shift),
-        "dual_shift": float(dual_shift),
+        "stationarity_shift": _stationarity_shift(problem, pairs),
+        "dual_cone_shift": _dual_cone_shift(pairs),
     }
 
 
