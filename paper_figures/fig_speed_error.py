@@ -79,7 +79,8 @@ def collect() -> dict:
             source = ref.get("source", "") if isinstance(ref, dict) else ""
             if not source or any(w in source.lower() for w in SKIP):
                 continue
-            kind = "model" if is_published(source) else "numerical"
+            model = row.get("reference_is_model", is_published(source))
+            kind = "model" if model else "numerical"
             out.setdefault(method_of(data["case"]), {"numerical": [], "model": []})[kind].append(
                 (float(wall), max(abs(float(err)), FLOOR))
             )

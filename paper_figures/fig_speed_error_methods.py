@@ -56,7 +56,8 @@ def _row_point(row: dict) -> tuple[float, float | None, float | None] | None:
     ref = row.get("reference")
     source = ref.get("source", "") if isinstance(ref, dict) else ""
     err = _number(row.get("rel_error"))
-    numerical = source and not is_published(source) and not any(w in source.lower() for w in SKIP)
+    model = row.get("reference_is_model", is_published(source))
+    numerical = source and not model and not any(w in source.lower() for w in SKIP)
     true = abs(err) if err is not None and numerical else None
     if est is None and true is None:
         return None

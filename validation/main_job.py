@@ -1,8 +1,9 @@
 """``python -m validation all``: one progress line per case, a summary table, the rest logged.
 
-The summary separates numerical errors (rows whose reference is a closed form, an exact count
-or another method) from model errors (rows whose reference is a seed's table or experiment),
-by :func:`validation.report.is_published`, as ``paper_figures/fig_speed_error.py`` does, and
+The summary separates numerical errors (rows whose reference is a value of our own model: a
+closed form, an exact count or another method) from model errors (rows whose reference is
+another model: a seed's table or experiment, an approximate formula), by
+:attr:`validation.report.Row.reference_is_model`, as ``paper_figures/fig_speed_error.py`` does, and
 counts the rows whose reference lies outside our error bar (numerical / model) and the rows
 whose bar is not estimated.
 """
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from validation.quiet import quiet, table
-from validation.report import Row, is_published
+from validation.report import Row
 
 
 @dataclass(frozen=True)
@@ -30,8 +31,10 @@ class CaseSummary:
     rows : int
     worst_numerical, worst_model : float or None
         Largest relative error of the rows with a numerical / published reference [-].
-    outside_numerical, outside_model : int
-        Rows whose numerical / published reference lies outside our error bar.
+    outside_numerical, outside_model, outside_partial : int
+        Rows whose reference lies outside our error bar, by
+        :attr:`~validation.report.Row.error_kind`: numerical, model, or a partial bar (one
+        that omits known sources).
     no_bar : int
         Rows with a value whose error bar is not estimated (``inf``).
     wall_s : float
@@ -48,6 +51,7 @@ class CaseSummary:
     failed: str = ""
     outside_numerical: int = 0
     outside_model: int = 0
+    outside_partial: int = 0
     no_bar: int = 0
 
     @classmethod
@@ -57,7 +61,7 @@ class CaseSummary:
             err = r.rel_error
             if err is None or not math.isfinite(err):
                 continue
-            kind = is_published(r.source)
+            kind = r.reference_is_model
             worst[kind] = err if worst[kind] is None else max(worst[kind], err)
         kinds = [r.error_kind for r in rows]
         no_bar = sum(r.ours is not None and math.isinf(r.ours_error) for r in rows)
@@ -69,6 +73,7 @@ class CaseSummary:
             wall_s,
             outside_numerical=kinds.count("numerical"),
             outside_model=kinds.count("model"),
+            outside_partial=kinds.count("partial bar"),
             no_bar=no_bar,
         )
 
@@ -78,7 +83,7 @@ class CaseSummary:
             self.rows,
             self.worst_numerical,
             self.worst_model,
-            f"{self.outside_numerical}/{self.outside_model}",
+            f"{self.outside_numerical}/{self.outside_model}/{self.outside_partial}",
             self.no_bar,
             round(self.wall_s, 1),
             self.failed or "no",
@@ -90,7 +95,7 @@ HEADER = (
     "rows",
     "worst numerical error",
     "worst model error",
-    "outside bar (num/model)",
+    "outside bar (num/model/partial)",
     "no bar",
     "wall [s]",
     "failed",

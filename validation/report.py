@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from dem.estimate import Estimate, format_estimate
+from dem.estimate import Estimate
 from validation import provenance
 from validation.provenance import git_commit as _git_commit  # noqa: F401 (crosscheck.files)
 from validation.provenance import versions as _versions  # noqa: F401 (crosscheck.files)
@@ -48,6 +48,22 @@ def is_published(source: str) -> bool:
     error), as opposed to a numerical reference (closed form, exact count, another method)."""
     s = source.lower()
     return s.startswith("seed ") and ("table" in s or "experiment" in s)
+
+
+def printed_precision(printed: str, rounded: bool = False) -> float:
+    """The precision of a number as a source prints it, its :attr:`Row.reference_error`: one
+    unit in the last printed digit (``"16.2"`` -> 0.1, ``"168"`` -> 1, ``"2.25e9"`` -> 1e7),
+    which holds whether the source rounded or truncated; half a unit where the source states
+    that it rounds to nearest (``rounded``)."""
+    text = printed.strip().lower()
+    mantissa, _, exponent = text.partition("e")
+    try:
+        float(text)
+    except ValueError:
+        raise ValueError(f"printed_precision needs a number as printed, got {printed!r}") from None
+    decimals = len(mantissa.partition(".")[2])
+    unit = 10.0 ** (-decimals + (int(exponent) if exponent else 0))
+    return 0.5 * unit if rounded else unit
 
 
 REFERENCE_KINDS = ("value", "upper bound", "lower bound")
@@ -86,8 +102,18 @@ class Row:
         in our bar), ``"upper bound"`` (ours should lie at or below it) or ``"lower bound"``
         (at or above it). A bound is an inequality, never an equality to miss.
     reference_error
-        Half-width of the reference's own bar (same unit, >= 0; 0 for a closed form): a bound
-        holds when our bar and the bound's bar reach the allowed side.
+        Half-width of the reference's own bar (same unit, >= 0; 0 for a closed form;
+        :func:`printed_precision` for a seed value quoted to a few digits): a value agrees when
+        the two bars overlap, a bound holds when they reach the allowed side.
+    model_difference
+        How the reference's model differs from ours (an assumption of a seed's formula that our
+        model tests, an approximate closed form, a calibrated model), empty when the reference
+        is a value of our own model (exact closed form, count, another method on the same
+        model). A seed's table or experiment is always another model (:func:`is_published`).
+        A reference of another model outside our bar is a model error, never a numerical one.
+    error_omits
+        Known error sources the bar does not cover (:attr:`dem.estimate.Estimate.omitted`, set
+        from an Estimate): a reference outside such a bar is a ``"partial bar"``.
     """
 
     quantity: str
@@ -101,6 +127,8 @@ class Row:
     error_notes: str = ""
     reference_kind: str = "value"
     reference_error: float = 0.0
+    model_difference: str = ""
+    error_omits: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if self.reference_kind not in REFERENCE_KINDS:
@@ -119,6 +147,7 @@ class Row:
             self.ours = est.value
             self.error_sources = dict(est.sources)
             self.error_notes = self.error_notes or est.notes
+            self.error_omits = list(dict.fromkeys([*self.error_omits, *est.omitted]))
         elif self.ours is None:
             self.error_sources = {}
         else:
@@ -137,7 +166,8 @@ class Row:
         """``ours`` with its error bar, or None."""
         if self.ours is None:
             return None
-        return Estimate(self.ours, self.error_sources, notes=self.error_notes)
+        return Estimate(self.ours, self.error_sources, notes=self.error_notes,
+                        omitted=tuple(self.error_omits))  # fmt: skip
 
     @property
     def ours_error(self) -> float | None:
@@ -175,15 +205,24 @@ class Row:
         return est.contains(ref)
 
     @property
+    def reference_is_model(self) -> bool:
+        """Whether the reference belongs to another model (:attr:`model_difference`, or a
+        seed's table or experiment)."""
+        return bool(self.model_difference) or is_published(self.source)
+
+    @property
     def error_kind(self) -> str | None:
         """Why ours disagrees with the reference (:attr:`reference_inside` False): ``"model"``
-        when the reference is a seed's table or experiment (the physics differs: model error),
-        ``"numerical"`` when it is a closed form or another method (our bar is too small, or a
-        method is wrong; for a bound, the bound is broken); None when they agree or nothing is
-        compared."""
+        when the reference belongs to another model (:attr:`reference_is_model`: the physics
+        differs, which no refinement removes), ``"numerical"`` when it is a value of our own
+        model (our bar is too small, or a method is wrong; for a bound, the bound is broken);
+        ``"partial bar"`` when our bar omits known sources (:attr:`error_omits`), so it does
+        not claim to hold the converged answer; None when they agree or nothing is compared."""
         if self.reference_inside is not False:
             return None
-        return "model" if is_published(self.source) else "numerical"
+        if self.reference_is_model:
+            return "model"
+        return "partial bar" if self.error_omits else "numerical"
 
     def to_dict(self) -> dict[str, Any]:
         out = dataclasses.asdict(self)
@@ -192,13 +231,14 @@ class Row:
         out["ours_error"] = self.ours_error
         out["rel_error"] = self.rel_error
         out["reference_inside"] = self.reference_inside
+        out["reference_is_model"] = self.reference_is_model
         out["error_kind"] = self.error_kind
         return out
 
     def ours_text(self) -> str:
         """``value ± error`` rounded to the digits the error supports (``-`` without ours)."""
         est = self.estimate
-        return "-" if est is None else format_estimate(est.value, est.error)
+        return "-" if est is None else est.format()
 
 
 def results_dir(quick: bool) -> Path:
@@ -373,10 +413,20 @@ ERROR_LEGEND = (
     "an error not estimated. `ref in bar`: whether the reference lies in that bar; where it does "
     "not, `model` marks a reference from a seed's table or experiment (the physics of our model "
     "differs from the experiment: a model error, which no refinement removes) and `numerical` a "
-    "closed form or another method (our bar is too small, or a method is wrong). A reference "
+    "closed form or another method (our bar is too small, or a method is wrong). A reference of "
+    "another model (an approximate closed form, an assumption our model tests) says how it "
+    "differs in its source cell (`other model: ...`) and is a `model` error too. A bar marked "
+    "`(without ...)` omits the sources it names (the error budget did not pay for them): a "
+    "reference outside it is a `partial bar`, not a numerical error. A reference "
     "that is a bound is an inequality: `below the bound` / `above the bound` says on which side "
     "of it ours lies within both bars (`yes` on the side it must, `no` on the wrong one)."
 )
+
+
+def _source_cell(row: Row) -> str:
+    if not row.model_difference:
+        return row.source
+    return f"{row.source} (other model: {row.model_difference})".lstrip()
 
 
 def _inside_cell(row: Row) -> str:
@@ -414,7 +464,8 @@ def markdown(payload: dict[str, Any], rows: list[Row]) -> str:
     lines += [ERROR_LEGEND, ""]
     lines += ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
-        cells = [r.quantity, r.ours_text(), r.reference, r.source, r.rel_error, _inside_cell(r)]
+        cells = [r.quantity, r.ours_text(), r.reference, _source_cell(r), r.rel_error,
+                 _inside_cell(r)]  # fmt: skip
         cells += [r.wall_s, *(r.extra.get(k) for k in extra_keys)]
         lines.append("| " + " | ".join(_fmt(c) for c in cells) + " |")
     return "\n".join(lines) + "\n"

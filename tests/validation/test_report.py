@@ -349,3 +349,57 @@ def test_write_stamped_records_provenance_and_wall_time(tmp_path):
     assert on_disk == data
     assert on_disk["series"] == [1, 2] and on_disk["wall_s"] >= 0.0
     assert {"git_commit", "git_clean", "date"} <= set(on_disk)
+
+
+def test_a_reference_of_another_model_is_never_a_numerical_error():
+    """A reference that names how its model differs from ours (an assumption our model tests,
+    an approximate closed form) outside our bar is a model error, in the row, its JSON and the
+    table; the same numbers from our own model's closed form are a numerical one."""
+    from dem.estimate import Estimate
+    from validation.report import _source_cell
+
+    ours = Estimate(0.993, {"mesh": 0.0004})
+    other = Row("E_eff / E [-]", ours, 1.0, "seed 000 Eq. (3)",
+                model_difference="Eq. (3) takes the strip as a prism")  # fmt: skip
+    same = Row("E_eff / E [-]", ours, 1.0, "seed 000 Eq. (3)")
+    assert (other.reference_inside, other.error_kind) == (False, "model")
+    assert (same.reference_inside, same.error_kind) == (False, "numerical")
+    assert other.to_dict()["reference_is_model"] and not same.to_dict()["reference_is_model"]
+    assert "other model: Eq. (3) takes the strip as a prism" in _source_cell(other)
+    inside = Row("x [-]", Estimate(1.0, {"mesh": 0.1}), 1.05, "approx", model_difference="y")
+    assert inside.error_kind is None  # agreeing rows carry no kind, whatever the model
+
+
+def test_a_printed_seed_value_carries_its_last_digit():
+    """One unit of the last printed digit (rounded or truncated), half a unit where the source
+    rounds to nearest: 16.258 agrees with a printed 16.2, not with a printed 16.20 (rounded)."""
+    from dem.estimate import Estimate
+    from validation.report import printed_precision
+
+    assert np.isclose(printed_precision("16.2"), 0.1)
+    assert np.isclose(printed_precision("16.2", rounded=True), 0.05)
+    assert np.isclose(printed_precision("168"), 1.0) and np.isclose(
+        printed_precision("2.25e9"), 1e7
+    )
+    ours = Estimate(16.258, {"grid": 3e-9})
+    assert Row(
+        "m3u", ours, 16.2, "seed", reference_error=printed_precision("16.2")
+    ).reference_inside
+    tight = Row("m3u", ours, 16.2, "seed", reference_error=printed_precision("16.20", rounded=True))
+    assert tight.reference_inside is False
+    with pytest.raises(ValueError, match="printed_precision"):
+        printed_precision("about 16")
+
+
+def test_a_partial_bar_outside_its_reference_is_not_a_numerical_error():
+    """A bar that omits known sources (the cheap budget) and misses a value of our own model is
+    a 'partial bar', printed with what it omits; the same bar without omissions is numerical."""
+    from dem.estimate import Estimate
+
+    partial = Estimate(243.2, {"loading rate": 0.8}, omitted=("node spacing",))
+    row = Row("peak [N]", partial, 256.1, "finest run")
+    assert row.error_omits == ["node spacing"] and row.error_kind == "partial bar"
+    assert row.ours_text() == "243.20 ± 0.80 (without node spacing)"
+    assert row.to_dict()["error_omits"] == ["node spacing"]
+    full = Row("peak [N]", Estimate(243.2, {"loading rate": 0.8}), 256.1, "finest run")
+    assert full.error_kind == "numerical"

@@ -17,8 +17,10 @@ did itself.
   (:func:`rt_bars`).
 
 The forces that ``selection="solver"`` returns are one of many admissible sets (seed 003
-Remark 4): their stresses are the solver's choice, not a model answer that a bar could
-bracket, and they get none (:func:`stress_bar` returns None).
+Remark 4): their stresses are the solver's choice, not a converged answer
+(:func:`stress_bar` returns None). What the model does fix is the range of each stress over
+every admissible set (:func:`admissible_range`, two LPs per edge, small packings only): a
+solver's value gets the bar that holds that whole range (:func:`range_bar`).
 """
 
 from __future__ import annotations
