@@ -156,13 +156,7 @@ class PathFollower:
         return Constraint(w=self.w, c=float(self.w @ self.point.u) + dc, dc=dc)
 
     def _step(self) -> Outcome:
-        """One step of the present size, from the predictor if the law uses one.
-
-        The predicted start gets the corrector's whole iteration budget: a predicted point
-        lies on the constraint but across the kinks the last increment crossed, and Newton
-        from it often needs more than ``target_iterations`` where it converges; only if it
-        fails does the step restart from the last equilibrium.
-        """
+        """One step of the present size, from the predictor if the law uses one."""
         con = self._constraint(self.dc)
         corrector, point = self.corrector, self.point
         if self.model.law.settings.predictor and self.last_dc > 0:
@@ -171,7 +165,9 @@ class PathFollower:
             guess = Iterate(
                 point.u + scale * self.last_du, point.lam + scale * self.last_dlam, None, None
             )
-            out = corrector.solve(guess, con, self.floor)
+            out = corrector.solve(
+                guess, con, self.floor, max_iterations=self.settings.target_iterations
+            )
             if out.converged:
                 return out
             self.n_iterations += out.iterations
