@@ -10,12 +10,20 @@ their intervals overlap.
 The error is estimated by the method itself from work it can do: a second run at a refined
 discretisation (with Richardson extrapolation where the order is known), a certified duality
 gap, a continuation. How much work is spent is the user's choice, :data:`ErrorBudget`.
+
+A bar never omits a known source silently. A source the chosen budget does not pay for is
+estimated another way where the method can (a priori from its known order and a level the
+run has, or from a neighbouring level of a sweep: :func:`sweep_errors`), or is listed in
+:attr:`Estimate.omitted`: the bar then covers the named sources only, says so wherever it is
+printed (``± 0.80 (without time step, node spacing)``), is not :attr:`Estimate.complete`, and
+a reference outside it is a ``"partial bar"``, not a numerical error
+(:attr:`validation.report.Row.error_kind`). An unbounded source is ``inf``, never left out.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -49,12 +57,16 @@ class Estimate:
         Wall time spent on the error estimate beyond the value itself [s].
     notes
         Anything a reader needs to read the bar (the order assumed, the levels used).
+    omitted
+        Known error sources the bar does not cover (the budget did not pay for them; module
+        notes): the bar is then the part of the error the named sources give.
     """
 
     value: float
     sources: Mapping[str, float] = field(default_factory=dict)
     cost_s: float = 0.0
     notes: str = ""
+    omitted: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         value = float(self.value)
@@ -71,6 +83,9 @@ class Estimate:
         object.__setattr__(self, "value", value)
         object.__setattr__(self, "sources", clean)
         object.__setattr__(self, "cost_s", float(self.cost_s))
+        if isinstance(self.omitted, str):
+            raise ValueError(f"omitted must be a sequence of source names, got {self.omitted!r}")
+        object.__setattr__(self, "omitted", tuple(str(s) for s in self.omitted))
 
     @classmethod
     def unknown(cls, value: float, why: str = "not estimated") -> Estimate:
@@ -81,6 +96,11 @@ class Estimate:
     def error(self) -> float:
         """Half-width of the interval: the sum of the sources' half-widths."""
         return float(sum(self.sources.values()))
+
+    @property
+    def complete(self) -> bool:
+        """Whether the bar covers every known source: none :attr:`omitted`, none unbounded."""
+        return not self.omitted and math.isfinite(self.error)
 
     @property
     def lo(self) -> float:
@@ -102,12 +122,13 @@ class Estimate:
         """A copy with one more (or a replaced) error source, and its cost added."""
         sources = dict(self.sources)
         sources[name] = width
-        return Estimate(self.value, sources, self.cost_s + cost_s, self.notes)
+        omitted = tuple(s for s in self.omitted if s != name)
+        return Estimate(self.value, sources, self.cost_s + cost_s, self.notes, omitted)
 
     def format(self, unit: str = "") -> str:
         """``value ± error`` rounded to the digits the error supports, with ``unit``."""
-        text = format_estimate(self.value, self.error)
-        return f"{text} {unit}".rstrip()
+        text = f"{format_estimate(self.value, self.error)} {unit}".rstrip()
+        return text + omitted_suffix(self.omitted)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON types (an infinite half-width is the string ``"inf"``)."""
@@ -117,6 +138,7 @@ class Estimate:
             "sources": {k: _json_float(v) for k, v in self.sources.items()},
             "cost_s": self.cost_s,
             "notes": self.notes,
+            "omitted": list(self.omitted),
         }
 
     @classmethod
@@ -126,7 +148,13 @@ class Estimate:
             {k: float(v) for k, v in data.get("sources", {}).items()},
             float(data.get("cost_s", 0.0)),
             str(data.get("notes", "")),
+            tuple(data.get("omitted", ())),
         )
+
+
+def omitted_suffix(omitted) -> str:
+    """`` (without a, b)`` after a printed bar that omits sources, empty otherwise."""
+    return f" (without {', '.join(omitted)})" if omitted else ""
 
 
 def _json_float(x: float) -> float | str:
@@ -177,3 +205,31 @@ def richardson(coarse: float, fine: float, ratio: float, order: float) -> Estima
         {"discretisation": abs(extrapolated - fine)},
         notes=f"Richardson, ratio {ratio:g}, order {order:g}",
     )
+
+
+def sweep_errors(
+    steps: Sequence[float], values: Sequence[float], order: float, exact_last: bool = False
+) -> list[float]:
+    """Half-width of the error of each level of a refinement sweep against its limit.
+
+    ``steps`` run coarse to fine (each > the next > 0, the parameter whose error goes as
+    ``step**order``), ``values`` are the results there. The finest level's error is the
+    Richardson bound of its last pair, ``|s_f - s_c| / (r**order - 1)`` with ``r`` their step
+    ratio (0 where ``exact_last``: the finest level is the model itself, e.g. no mass
+    scaling); every coarser level adds its distance to the next finer one to that level's
+    error (the triangle inequality). So a coarse level's bar uses every finer level of the
+    sweep, and holds even where the differences grow on refinement (a pre-asymptotic sweep),
+    as long as the finest pair is asymptotic at ``order`` or better: pass the smallest order
+    the discretisation can have. A non-finite value makes its level and every coarser one
+    unbounded."""
+    h = [float(s) for s in steps]
+    s = [float(v) for v in values]
+    if len(h) != len(s) or len(h) < 2:
+        raise ValueError(f"a sweep needs >= 2 levels with one value each, got {len(h)}, {len(s)}")
+    if order <= 0 or any(not (a > b > 0) for a, b in zip(h, h[1:], strict=False)):
+        raise ValueError(f"sweep steps must decrease and stay > 0, order > 0: {h}, {order}")
+    r = h[-2] / h[-1]
+    errors = [0.0 if exact_last else abs(s[-1] - s[-2]) / (r**order - 1.0)]
+    for i in range(len(s) - 2, -1, -1):
+        errors.insert(0, abs(s[i] - s[i + 1]) + errors[0])
+    return [e if math.isfinite(e) else math.inf for e in errors]

@@ -17,7 +17,17 @@ expressions, evaluated by us:
   :math:`z_i^T \delta_i` to first order (the duals are the sensitivities of the optimum), so
   this is how far the objective of an infeasible point may lie from the optimum beyond the
   gap. Elementwise for zero and nonnegative cones, cone by cone (norm of the dual times the
-  distance) for second-order cones, norm times distance for a power-cone constraint.
+  distance) for second-order cones, norm times distance for a power-cone constraint;
+- the stationarity and dual-cone shifts: for any feasible :math:`x^*`,
+  :math:`c^T x^* = \sum_i z_i^T h_i + r^T x^* - \sum_i z_i^T g_i(x^*)` with the Lagrangian's
+  linear part :math:`r = c + \sum_i G_i^T z_i`, and :math:`-z_i^T g_i(x^*) \le
+  \operatorname{dist}(z_i, K_i^*) \lVert g_i(x^*) \rVert`, so a dual off stationarity or off
+  its cone lifts the optimum above the dual bound by at most :math:`|r|^T |x^*|` (the
+  stationarity shift) plus :math:`\sum_i \operatorname{dist}(z_i, K_i^*) \lVert g_i(x^*)
+  \rVert` (the dual-cone shift). Both are read at the returned point (first order, as the
+  feasibility shift; it is the best estimate of :math:`x^*` there is), :math:`r` exactly (the
+  gradient of the affine Lagrangian), each distance bounded by a correction that puts the
+  dual into its cone.
 
 cvxpy's conventions (checked in the tests on a catalogue of tiny problems): an ``Equality``
 ``a == b`` has :math:`g = a - b` and :math:`z = -y`; an ``Inequality`` ``a <= b`` has
@@ -79,6 +89,13 @@ class Certificate:
     feasibility_shift : float
         First-order change of the optimum that the primal violations can hide (module
         notes), in the unit of ``dual_objective``; ``nan`` where not computed.
+    stationarity_shift : float
+        ``|r|^T |x|``, how far the optimum may lie above ``dual_objective`` for duals that
+        are not exactly stationary (module notes), in the unit of ``dual_objective``; ``nan``
+        where not computed.
+    dual_cone_shift : float
+        The same for duals outside their dual cones (module notes); ``nan`` where not
+        computed.
     """
 
     primal_residual: float
@@ -91,6 +108,8 @@ class Certificate:
     dual_objective: float
     local_residual: float = float("nan")
     feasibility_shift: float = float("nan")
+    stationarity_shift: float = float("nan")
+    dual_cone_shift: float = float("nan")
 
     def worst(self, feasibility: bool = False) -> float:
         """Largest residual; with ``feasibility`` only the primal ones (for a programme whose
@@ -145,15 +164,18 @@ def _soc_parts(constraint, values) -> tuple[np.ndarray, np.ndarray]:
     return t, x
 
 
-def _dual_cone_violation(constraint, kind, z) -> tuple[float, float]:
+def _dual_cone_violation(constraint, kind, z) -> tuple[np.ndarray, float]:
+    """Per cone, a bound on the distance of the dual ``z`` from its dual cone (the size of a
+    correction that puts it in; 0 inside), and the size of the dual."""
     if kind == "zero":
-        return 0.0, float(np.max(np.abs(z), initial=0.0))
+        return np.zeros(0), float(np.max(np.abs(z), initial=0.0))
     if kind == "nonneg":
-        return float(np.max(-z, initial=0.0)), float(np.max(np.abs(z), initial=0.0))
+        return np.maximum(-z, 0.0), float(np.max(np.abs(z), initial=0.0))
     if kind == "soc":
+        # (t, x) -> (max(t, |x|), x) is in the cone and moves z by (|x| - t)+
         t, x = _soc_parts(constraint, z)
         viol = np.linalg.norm(x, axis=1) - t
-        return float(np.max(viol, initial=0.0)), float(np.max(np.abs(t), initial=0.0))
+        return np.maximum(viol, 0.0), float(np.max(np.abs(t), initial=0.0))
     a = constraint.alpha.value if hasattr(constraint.alpha, "value") else constraint.alpha
     a = np.ravel(np.asarray(a, float))
     u, v, w = (np.ravel(np.asarray(zz, float)) for zz in z)
@@ -162,7 +184,8 @@ def _dual_cone_violation(constraint, kind, z) -> tuple[float, float]:
         gm = (u_ / a) ** a * (v_ / (1 - a)) ** (1 - a)
     viol = np.maximum.reduce([np.abs(w) - gm, -u, -v])
     scale = max(np.max(np.abs(u), initial=0.0), np.max(np.abs(v), initial=0.0))
-    return float(np.max(viol, initial=0.0)), float(scale)
+    # shrinking |w| to gm, or (u, v, w) -> (u+, v+, 0), each move by at most sqrt(3) viol
+    return np.sqrt(3.0) * np.maximum(viol, 0.0), float(scale)
 
 
 def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> dict:
@@ -180,8 +203,9 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
     -------
     dict
         Keys ``primal_residual``, ``dual_cone_residual``, ``stationarity``, ``duality_gap``,
-        ``complementarity``, ``dual_objective`` and ``feasibility_shift`` (module notes; in the
-        unit of the objective, like ``dual_objective``).
+        ``complementarity``, ``dual_objective``, ``feasibility_shift``,
+        ``stationarity_shift`` and ``dual_cone_shift`` (module notes; the last four in the
+        unit of the objective).
     """
     variables = problem.variables()
     saved = [v.value for v in variables]
@@ -205,6 +229,8 @@ def conic_certificate(problem: cp.Problem, n_probes: int = 2, seed: int = 0) -> 
         "complementarity": comp / max(denom, 1e-300),
         "dual_objective": dual_obj,
         "feasibility_shift": float(shift),
+        "stationarity_shift": _stationarity_shift(problem, pairs),
+        "dual_cone_shift": _dual_cone_shift(pairs),
     }
 
 
@@ -253,9 +279,41 @@ def _dual_cone_residual(pairs: list) -> float:
     cone_viol, zmax = 0.0, 0.0
     for c, z, _, kind in pairs:
         viol, scale = _dual_cone_violation(c, kind, z)
-        cone_viol = max(cone_viol, viol)
+        cone_viol = max(cone_viol, float(np.max(viol, initial=0.0)))
         zmax = max(zmax, scale)
     return cone_viol / max(zmax, 1e-300)
+
+
+def _stationarity_shift(problem: cp.Problem, pairs: list) -> float:
+    """``|r|^T |x|`` at the returned point, ``r`` the gradient of the Lagrangian
+    ``c^T x + sum z . g(x)`` (affine, so exact at any point; module notes)."""
+    terms = [problem.objective.expr]
+    for _c, z, args, _kind in pairs:
+        zs = z if isinstance(z, list) else [z] * len(args)
+        for zz, a in zip(zs, args, strict=True):
+            zz = np.asarray(zz, float)
+            weight = zz.reshape(a.shape) if zz.size == a.size else float(np.ravel(zz)[0])
+            terms.append(cp.sum(cp.multiply(weight, a)))
+    grad = cp.sum(cp.hstack(terms)).grad
+    total = 0.0
+    for v in problem.variables():
+        r = grad.get(v)
+        if r is None:
+            continue
+        r = np.ravel(r.toarray() if hasattr(r, "toarray") else np.asarray(r, float))
+        total += float(np.abs(r) @ np.abs(np.ravel(v.value, order="F")))
+    return total
+
+
+def _dual_cone_shift(pairs: list) -> float:
+    """``sum_i dist(z_i, K_i*) |g_i(x)|`` at the returned point (module notes), the distance
+    bounded cone by cone (:func:`_dual_cone_violation`) and paired by Cauchy-Schwarz."""
+    total = 0.0
+    for c, z, args, kind in pairs:
+        viol, _ = _dual_cone_violation(c, kind, z)
+        if np.any(viol > 0):
+            total += float(np.linalg.norm(viol) * np.linalg.norm(_flat([a.value for a in args])))
+    return total
 
 
 def _primal_residual_and_shift(pairs: list) -> tuple[float, float]:

@@ -421,6 +421,8 @@ def static_certificate(sp_: StaticProblem, f, vertex_forces, lam) -> Certificate
         dual_objective=conic["dual_objective"] * sp_.lam_scale,
         local_residual=_local_residual(sp_, f, lam, viol),
         feasibility_shift=conic["feasibility_shift"] * sp_.lam_scale,
+        stationarity_shift=conic["stationarity_shift"] * sp_.lam_scale,
+        dual_cone_shift=conic["dual_cone_shift"] * sp_.lam_scale,
     )
 
 

@@ -11,8 +11,14 @@ of lambda:
 ``"feasibility"``
     The feasibility shift of the certificate: how far the optimum may move when every
     constraint is relaxed by what the returned point violates it by (duals as sensitivities,
-    first order). Together with the gap this is the solver's error; both are of the order of
-    Clarabel's tolerance.
+    first order).
+``"dual stationarity"``, ``"dual cone"``
+    The stationarity and dual-cone shifts of the certificate (:mod:`limit.certificates`):
+    the dual objective bounds the optimum only for duals that make the Lagrangian stationary
+    and lie in their dual cones; the returned duals may miss it by :math:`|r|^T|x^*|` plus
+    :math:`\sum_i \operatorname{dist}(z_i, K_i^*)\lVert g_i(x^*)\rVert`, read at the
+    returned point. Gap, feasibility and these two together are the solver's error, each of
+    the order of Clarabel's tolerance.
 ``"friction polygon"``
     Where ``friction_polygon = k``: the distance to the optimum of the same programme with
     the exact (second-order) cones, plus that solve's own solver error
@@ -55,18 +61,25 @@ def solver_estimate(lam: float, certificate: Certificate | None) -> Estimate:
     lam : float
         The returned multiplier [unit of lambda].
     certificate : Certificate or None
-        With ``dual_objective`` and ``feasibility_shift`` in the unit of lambda; None (no
-        certificate computed) gives an unknown error, never a silent zero.
+        With ``dual_objective`` and the shifts (``feasibility_shift``, ``stationarity_shift``,
+        ``dual_cone_shift``) in the unit of lambda; None (no certificate computed) or a shift
+        not computed gives an unknown error, never a silent zero.
     """
     if certificate is None:
         return Estimate.unknown(lam, "no certificate computed (certify=False)")
-    shift = certificate.feasibility_shift
-    if not math.isfinite(shift):
-        return Estimate.unknown(lam, "the certificate has no feasibility shift")
+    shifts = {
+        "feasibility": certificate.feasibility_shift,
+        "dual stationarity": certificate.stationarity_shift,
+        "dual cone": certificate.dual_cone_shift,
+    }
+    missing = [name for name, value in shifts.items() if not math.isfinite(value)]
+    if missing:
+        return Estimate.unknown(lam, f"the certificate has no {', '.join(missing)} shift")
     return Estimate(
         lam,
-        {"duality gap": abs(certificate.dual_objective - lam), "feasibility": shift},
-        notes="solver error of the programme's optimum (duality gap, primal violations)",
+        {"duality gap": abs(certificate.dual_objective - lam), **shifts},
+        notes="solver error of the programme's optimum (duality gap, primal violations, dual "
+        "stationarity and cone)",
     )
 
 

@@ -31,8 +31,10 @@ class CaseSummary:
     rows : int
     worst_numerical, worst_model : float or None
         Largest relative error of the rows with a numerical / published reference [-].
-    outside_numerical, outside_model : int
-        Rows whose numerical / published reference lies outside our error bar.
+    outside_numerical, outside_model, outside_partial : int
+        Rows whose reference lies outside our error bar, by
+        :attr:`~validation.report.Row.error_kind`: numerical, model, or a partial bar (one
+        that omits known sources).
     no_bar : int
         Rows with a value whose error bar is not estimated (``inf``).
     wall_s : float
@@ -49,6 +51,7 @@ class CaseSummary:
     failed: str = ""
     outside_numerical: int = 0
     outside_model: int = 0
+    outside_partial: int = 0
     no_bar: int = 0
 
     @classmethod
@@ -70,6 +73,7 @@ class CaseSummary:
             wall_s,
             outside_numerical=kinds.count("numerical"),
             outside_model=kinds.count("model"),
+            outside_partial=kinds.count("partial bar"),
             no_bar=no_bar,
         )
 
@@ -79,7 +83,7 @@ class CaseSummary:
             self.rows,
             self.worst_numerical,
             self.worst_model,
-            f"{self.outside_numerical}/{self.outside_model}",
+            f"{self.outside_numerical}/{self.outside_model}/{self.outside_partial}",
             self.no_bar,
             round(self.wall_s, 1),
             self.failed or "no",
@@ -91,7 +95,7 @@ HEADER = (
     "rows",
     "worst numerical error",
     "worst model error",
-    "outside bar (num/model)",
+    "outside bar (num/model/partial)",
     "no bar",
     "wall [s]",
     "failed",

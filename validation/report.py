@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from dem.estimate import Estimate, format_estimate
+from dem.estimate import Estimate
 from validation import provenance
 from validation.provenance import git_commit as _git_commit  # noqa: F401 (crosscheck.files)
 from validation.provenance import versions as _versions  # noqa: F401 (crosscheck.files)
@@ -111,6 +111,9 @@ class Row:
         is a value of our own model (exact closed form, count, another method on the same
         model). A seed's table or experiment is always another model (:func:`is_published`).
         A reference of another model outside our bar is a model error, never a numerical one.
+    error_omits
+        Known error sources the bar does not cover (:attr:`dem.estimate.Estimate.omitted`, set
+        from an Estimate): a reference outside such a bar is a ``"partial bar"``.
     """
 
     quantity: str
@@ -125,6 +128,7 @@ class Row:
     reference_kind: str = "value"
     reference_error: float = 0.0
     model_difference: str = ""
+    error_omits: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if self.reference_kind not in REFERENCE_KINDS:
@@ -143,6 +147,7 @@ class Row:
             self.ours = est.value
             self.error_sources = dict(est.sources)
             self.error_notes = self.error_notes or est.notes
+            self.error_omits = list(dict.fromkeys([*self.error_omits, *est.omitted]))
         elif self.ours is None:
             self.error_sources = {}
         else:
@@ -161,7 +166,8 @@ class Row:
         """``ours`` with its error bar, or None."""
         if self.ours is None:
             return None
-        return Estimate(self.ours, self.error_sources, notes=self.error_notes)
+        return Estimate(self.ours, self.error_sources, notes=self.error_notes,
+                        omitted=tuple(self.error_omits))  # fmt: skip
 
     @property
     def ours_error(self) -> float | None:
@@ -210,10 +216,13 @@ class Row:
         when the reference belongs to another model (:attr:`reference_is_model`: the physics
         differs, which no refinement removes), ``"numerical"`` when it is a value of our own
         model (our bar is too small, or a method is wrong; for a bound, the bound is broken);
-        None when they agree or nothing is compared."""
+        ``"partial bar"`` when our bar omits known sources (:attr:`error_omits`), so it does
+        not claim to hold the converged answer; None when they agree or nothing is compared."""
         if self.reference_inside is not False:
             return None
-        return "model" if self.reference_is_model else "numerical"
+        if self.reference_is_model:
+            return "model"
+        return "partial bar" if self.error_omits else "numerical"
 
     def to_dict(self) -> dict[str, Any]:
         out = dataclasses.asdict(self)
@@ -229,7 +238,7 @@ class Row:
     def ours_text(self) -> str:
         """``value ± error`` rounded to the digits the error supports (``-`` without ours)."""
         est = self.estimate
-        return "-" if est is None else format_estimate(est.value, est.error)
+        return "-" if est is None else est.format()
 
 
 def results_dir(quick: bool) -> Path:
@@ -406,7 +415,9 @@ ERROR_LEGEND = (
     "differs from the experiment: a model error, which no refinement removes) and `numerical` a "
     "closed form or another method (our bar is too small, or a method is wrong). A reference of "
     "another model (an approximate closed form, an assumption our model tests) says how it "
-    "differs in its source cell (`other model: ...`) and is a `model` error too. A reference "
+    "differs in its source cell (`other model: ...`) and is a `model` error too. A bar marked "
+    "`(without ...)` omits the sources it names (the error budget did not pay for them): a "
+    "reference outside it is a `partial bar`, not a numerical error. A reference "
     "that is a bound is an inequality: `below the bound` / `above the bound` says on which side "
     "of it ours lies within both bars (`yes` on the side it must, `no` on the wrong one)."
 )

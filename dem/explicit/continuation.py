@@ -141,7 +141,9 @@ def rigid_limit(run, settings, driver, result, material: Estimate, cont: RigidCo
     Returns
     -------
     rigid : Estimate or None
-        None when a stiffer level finds no collapse.
+        None when a stiffer level finds no collapse. Its bar is the extrapolation and the
+        stiffest level's bracket; the stiff levels are not rerun, so the loading rate, time
+        step and node spacing are in ``rigid.omitted``.
     levels : list of dict
         Per level: ``factor`` on ``k_n``, ``mass_scaling``, ``lambda_stable``,
         ``lambda_moving``, ``value`` and ``error`` (the bracket's), ``wall_s``.
@@ -168,7 +170,9 @@ def rigid_limit(run, settings, driver, result, material: Estimate, cont: RigidCo
         values.append(estimate)
         levels.append(_level(factor, scaling, level, estimate))
         rigid = _extrapolate(values, cont.ratio)
-        rigid = Estimate(rigid.value, rigid.sources, time.perf_counter() - wall0, rigid.notes)
+        # the stiff levels are not rerun: their rate, time step and node spacing are named
+        rigid = Estimate(rigid.value, rigid.sources, time.perf_counter() - wall0, rigid.notes,
+                         BUDGET_SOURCES["full"])  # fmt: skip
         if rigid.error <= cont.rtol * abs(rigid.value):
             break
         previous = level

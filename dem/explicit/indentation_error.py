@@ -93,7 +93,8 @@ def indentation_estimates(
     result : IndentationResult
     budget : {"none", "cheap", "full"}
         ``"none"``: every value with an unknown bar; otherwise the curve sampling plus the
-        reruns of :data:`BUDGET_SOURCES`.
+        reruns of :data:`BUDGET_SOURCES`, the reruns of ``"full"`` it does not pay for listed
+        in :attr:`~dem.estimate.Estimate.omitted`.
 
     Returns
     -------
@@ -123,7 +124,8 @@ def indentation_estimates(
             width = LEVEL_BOUND * abs(changed - values[name])
             sources[name][source] = width if math.isfinite(width) else math.inf
     notes = f"reruns at half the parameter: {', '.join(BUDGET_SOURCES[budget])}"
-    return {name: Estimate(values[name], sources[name], cost, notes)
+    omitted = tuple(s for s in BUDGET_SOURCES["full"] if s not in BUDGET_SOURCES[budget])
+    return {name: Estimate(values[name], sources[name], cost, notes, omitted)
             for name in QUANTITIES if not math.isnan(values[name])}  # fmt: skip
 
 

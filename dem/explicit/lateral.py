@@ -274,8 +274,9 @@ def simulate_lateral(
     error : {"none", "cheap", "full"}
         What ``result.estimate`` measures beyond the bracket (:mod:`dem.explicit.continuation`):
         ``"none"`` nothing (an unknown bar), ``"cheap"`` the loading rate (one more run at
-        half the rate, started just below the bracket), ``"full"`` also the time step and the
-        node spacing (a run each at half of it).
+        half the rate, started just below the bracket; the time step and the node spacing
+        are then listed in ``estimate.omitted``), ``"full"`` also the time step and the node
+        spacing (a run each at half of it).
     continuation : RigidContinuation, optional
         Also run at stiffer joints and extrapolate to rigid blocks (``result.rigid``,
         ``result.levels``).
@@ -313,6 +314,9 @@ def simulate_lateral(
         return result
     if error == "none":
         material = Estimate.unknown(material.value, "error budget 'none'")
+    else:  # the sources of "full" this budget does not pay for are named (dem.estimate notes)
+        missing = [s for s in BUDGET_SOURCES["full"] if s not in BUDGET_SOURCES[error]]
+        material = replace(material, omitted=(*material.omitted, *missing))
     for name in BUDGET_SOURCES[error]:
         width, cost = rerun_source(run, settings, driver, result, name)
         material = material.with_source(name, width, cost)

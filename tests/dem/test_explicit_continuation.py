@@ -58,6 +58,7 @@ def test_loading_rate_measured_and_the_bar_holds_b_over_h():
     settings = masonry_settings(scene, joint_stiffness=None)
     res = simulate_lateral(scene, settings, DRIVER, error="cheap")
     assert set(res.estimate.sources) == {"load step", "detection", "loading rate"}
+    assert res.estimate.omitted == ("time step", "node spacing")  # not paid for: named
     assert math.isfinite(res.estimate.error) and res.estimate.cost_s > 0
     assert res.estimate.contains(1.0 / 6.0)
     assert res.rigid is None

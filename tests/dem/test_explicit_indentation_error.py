@@ -68,6 +68,7 @@ def test_error_budgets_on_a_short_run():
     assert peak.value == none.peak_load  # the reruns leave the run itself alone
     assert peak.cost_s > 0
     assert math.isinf(peak.sources["loading rate"]) and math.isinf(peak.sources["curve sampling"])
+    assert peak.omitted == ("time step", "node spacing") and not none.estimates["peak_load"].omitted
     with pytest.raises(ValueError, match="error budget"):
         simulate_indentation(scene, settings, FAST, error="some")
     assert set(QUANTITIES) >= set(cheap.estimates)

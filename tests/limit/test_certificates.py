@@ -102,3 +102,27 @@ def test_a_dual_outside_its_cone_is_rejected(solved):
     t.save_value(-(np.abs(t.value) + 1.0))
     cert = conic_certificate(sp_.problem)
     assert cert["dual_cone_residual"] > 1e3 * TOL
+
+
+@pytest.mark.parametrize(
+    ("duals", "expected_shift"),
+    [((0.9, 0.0), 0.1 * 0.95), ((1.07, -0.07), 0.07 * 1.05)],
+    ids=["off stationarity", "off its cone"],
+)
+def test_the_dual_shifts_lift_an_inexact_dual_bound_to_the_optimum(duals, expected_shift):
+    """max x s.t. x <= 1, x <= 2 (optimum 1) at the feasible x = 0.95 with hand-set duals
+    whose bound z^T h lies below the optimum: (0.9, 0) misses stationarity by r = 0.1,
+    (1.07, -0.07) has a negative inequality dual (distance 0.07, |g_2(x)| = 1.05). The bar of
+    x from the gap alone does not reach 1; with the shifts |r| |x| + dist(z, K*) |g(x)|
+    it does (the stationarity shift in the first case, the dual-cone shift in the second)."""
+    x = cp.Variable(name="x")
+    problem = cp.Problem(cp.Maximize(x), [x <= 1, x <= 2])
+    x.save_value(np.array(0.95))
+    for c, y in zip(problem.constraints, duals, strict=True):
+        c.save_dual_value(np.array(y))
+    cert = conic_certificate(problem)
+    gap = abs(cert["dual_objective"] - 0.95)
+    assert 0.95 + gap < 1.0
+    shift = cert["stationarity_shift"] + cert["dual_cone_shift"]
+    assert shift == pytest.approx(expected_shift, rel=1e-12)
+    assert 0.95 + gap + shift >= 1.0

@@ -26,7 +26,7 @@ def test_bar_holds_the_closed_form_and_is_the_solvers_size(model, width, height,
     assert est.value == res.lam
     assert est.contains(min(mu, width / height))
     assert 0 < est.error < 1e-7
-    assert set(est.sources) == {"duality gap", "feasibility"}
+    assert set(est.sources) == {"duality gap", "feasibility", "dual stationarity", "dual cone"}
 
 
 def test_bar_holds_the_pure_torsion_closed_form():
@@ -159,3 +159,22 @@ def test_the_iterative_estimate_is_built_on_its_own_lam():
     it.lam = 3.0 * it.lam
     assert it.estimate.value == it.lam
     assert "iteration" in it.estimate.sources
+
+
+@pytest.mark.parametrize("dual", [0.9, 1.0, 1.3])
+def test_duals_that_are_not_stationary_widen_the_bound_by_the_stationarity_shift(dual):
+    """max x s.t. x <= 2 (optimum 2), its dual replaced by ``dual``: the dual objective
+    2 dual misses the optimum for dual < 1, and the stationarity shift |1 - dual| x at the
+    returned point restores the bound; exact duals shift nothing."""
+    import cvxpy as cp
+
+    from limit.certificates import conic_certificate
+
+    x = cp.Variable()
+    problem = cp.Problem(cp.Maximize(x), [x <= 2.0])
+    problem.solve(solver=cp.CLARABEL)
+    problem.constraints[0].save_dual_value(np.array(dual))
+    cert = conic_certificate(problem)
+    assert cert["dual_objective"] == pytest.approx(2.0 * dual, rel=1e-7)
+    assert cert["stationarity_shift"] == pytest.approx(abs(1.0 - dual) * 2.0, abs=1e-7)
+    assert cert["dual_objective"] + cert["stationarity_shift"] >= 2.0 - 1e-7

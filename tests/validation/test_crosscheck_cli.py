@@ -102,9 +102,12 @@ def test_case_summary_counts_references_outside_the_bar():
         Row("a", Estimate(1.0, {"grid": 0.01}), 1.1, "closed form"),
         Row("b", Estimate(1.0, {"grid": 0.01}), 1.1, "seed 001 Table 2"),
         Row("c", Estimate(1.0, {"grid": 0.2}), 1.1, "seed 001 Table 2"),
+        Row("d", Estimate(1.0, {"grid": 0.01}, omitted=("time step",)), 1.1, "closed form"),
+        Row("e", Estimate(1.0, {"grid": 0.01}), 1.1, "closed form", model_difference="approx."),
     ]
     s = CaseSummary.of("c", rows, 1.0)
-    assert (s.outside_numerical, s.outside_model, s.no_bar) == (1, 1, 0)
+    assert (s.outside_numerical, s.outside_model, s.outside_partial) == (1, 2, 1)
+    assert s.no_bar == 0 and s.cells()[4] == "1/2/1"
 
 
 def test_validation_all_is_quiet_end_to_end(tmp_path):

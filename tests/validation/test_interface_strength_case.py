@@ -24,3 +24,21 @@ def test_interface_strength_case_quick(tmp_path):
     json_path, _ = write_results(case.CASE, rows, quick=True, wall_s=0.0, out_dir=tmp_path)
     data = json.loads(json_path.read_text())
     assert data["rows"][0]["reference"]["source"].startswith("seed 001")
+
+
+def test_a_fitted_order_carries_its_pre_asymptotic_drift():
+    """Errors C h^p (1 + a h + b h^2) on halved grids (p = 1, 2, 3): the order's bar, the
+    geometric tail of the local orders' drift, contains p and stays below 0.1; an error
+    sequence whose local orders do not settle has an unknown bar."""
+    import math
+
+    import pytest
+
+    for p, a, b in [(2.0, 3.0, 0.0), (2.0, -1.5, 4.0), (1.0, 0.8, 0.0), (3.0, 2.0, 1.0)]:
+        h = 0.5 ** np.arange(2, 8)
+        est = case.asymptotic_order(h**p * np.abs(1 + a * h + b * h * h))
+        assert est.contains(p), (p, a, b, est)
+        assert est.error < 0.1, (p, a, b, est)
+    assert math.isinf(case.asymptotic_order([1.0, 0.3, 0.2, 0.01, 0.009]).error)
+    with pytest.raises(ValueError, match="asymptotic_order"):
+        case.asymptotic_order([1.0, 0.5, 0.0, 0.1])

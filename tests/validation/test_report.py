@@ -389,3 +389,17 @@ def test_a_printed_seed_value_carries_its_last_digit():
     assert tight.reference_inside is False
     with pytest.raises(ValueError, match="printed_precision"):
         printed_precision("about 16")
+
+
+def test_a_partial_bar_outside_its_reference_is_not_a_numerical_error():
+    """A bar that omits known sources (the cheap budget) and misses a value of our own model is
+    a 'partial bar', printed with what it omits; the same bar without omissions is numerical."""
+    from dem.estimate import Estimate
+
+    partial = Estimate(243.2, {"loading rate": 0.8}, omitted=("node spacing",))
+    row = Row("peak [N]", partial, 256.1, "finest run")
+    assert row.error_omits == ["node spacing"] and row.error_kind == "partial bar"
+    assert row.ours_text() == "243.20 ± 0.80 (without node spacing)"
+    assert row.to_dict()["error_omits"] == ["node spacing"]
+    full = Row("peak [N]", Estimate(243.2, {"loading rate": 0.8}), 256.1, "finest run")
+    assert full.error_kind == "numerical"

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from dem.estimate import Estimate
+from dem.estimate import Estimate, sweep_errors
 from dem.explicit import (
     ExplicitSettings,
     IndentationResult,
@@ -42,7 +42,7 @@ from dem.tis_stiffness import (
     tis_panel_k_def,
 )
 from dem.units import GPA, MM
-from validation.cases.bars import per_unit, two_levels
+from validation.cases.bars import per_unit
 from validation.report import Row, output_dir
 from validation.sweep.stats import mean_ci
 
@@ -448,6 +448,12 @@ CONVERGENCE_SWEEPS = {
 }
 """Values of each discretisation parameter, coarse to fine, of ``tis-convergence`` (by
 ``quick``)."""
+SWEEP_ORDER = {"node_spacing_mm": 1.0, "speed_mm_s": 1.0, "mass_scaling": 0.5, "dt_safety": 1.0}
+"""The smallest convergence order of the peak load in each parameter (:func:`sweep_errors`):
+1, that of a consistent discretisation, and 1/2 in the mass scaling ``s``, which enters the
+dynamics as ``v sqrt(s)`` only."""
+EXACT_MASS_SCALING = 1.0
+"""No mass scaling: the model itself, whose sweep level has no error of its own."""
 
 
 class _PeakRuns:
@@ -484,9 +490,13 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
         "5x5 panel, theta = 2.5 deg, k_n = 2.25 GPa/mm. Each sweep varies one parameter around "
         f"the base {base} and runs until the load has dropped to 85 % of the peak; its error is "
         "against the finest run of the same sweep. curve_rel_diff: largest |P - P_finest| over "
-        "the common deflection range before the peak, relative to the finest peak. Each peak's "
-        "error bar is its difference to the next finer run of its sweep; the converged row's bar "
-        "adds, per sweep, the difference between the base run and the next finer one. Mass scaling "
+        "the common deflection range before the peak, relative to the finest peak. Error bars "
+        "(dem.estimate.sweep_errors): the finest run of a sweep is off by the Richardson bound "
+        f"of its last pair at the smallest order {SWEEP_ORDER} (0 without mass scaling: the "
+        "model), each coarser run by its distance to the next finer run plus that run's error; "
+        "a peak's bar adds to its own parameter's error the error of the base value of every "
+        "other parameter (from its sweep), so every bar names all four sources; the converged "
+        "row's bar is the sum of the base errors. Mass scaling "
         "s and speed v enter the dynamics through v sqrt(s) only (time scaling), so the two "
         "sweeps test the same inertia effect. The converged row is the full run at the base "
         "discretisation (relaxation + indentation until the central block is out)."
@@ -496,26 +506,27 @@ def run_convergence(quick: bool) -> tuple[list[Row], str]:
 
 
 def _sweep_rows(sweeps: dict, base: dict, peak_run: _PeakRuns, store: dict):
-    """One row per run of every sweep; the base discretisation's bar per sweep
-    (:func:`_base_bar`) and the finest node-spacing run."""
+    """One row per run of every sweep; the base discretisation's error per sweep
+    (:func:`_level_errors`) and the finest node-spacing run."""
     rows: list[Row] = []
-    finest_spacing = None
-    base_bars: dict[str, float] = {}
-    for param, values in sweeps.items():
-        runs = [(v, *peak_run({**base, param: v})) for v in values]
+    runs_of = {p: [(v, *peak_run({**base, p: v})) for v in vals] for p, vals in sweeps.items()}
+    errors = {p: _level_errors(p, sweeps[p], [r.peak_load for _, r, _ in runs])
+              for p, runs in runs_of.items()}  # fmt: skip
+    base_bars = {f"{p} (base {base[p]:g})": errors[p][sweeps[p].index(base[p])] for p in sweeps}
+    finest_spacing = runs_of["node_spacing_mm"][-1][1]
+    for param, runs in runs_of.items():
         # the finest run: smallest spacing / speed / mass scaling / time step
         ref_res = runs[-1][1]
-        if param == "node_spacing_mm":
-            finest_spacing = ref_res
-        peaks = [res.peak_load for _, res, _ in runs]
-        base_bars.update(_base_bar(param, values, peaks, base[param]))
+        others = {k: w for k, w in base_bars.items() if not k.startswith(f"{param} ")}
         for i, (value, res, wall) in enumerate(runs):
             err = abs(res.peak_load - ref_res.peak_load) / ref_res.peak_load
             curve_err = _curve_difference(res, ref_res)
+            ours = Estimate(res.peak_load, {f"{param} ({value:g})": errors[param][i], **others},
+                            notes="dem.estimate.sweep_errors")  # fmt: skip
             rows.append(Row(
-                f"peak load, {param}={value:g} [N]", _sweep_estimate(param, values, peaks, i),
+                f"peak load, {param}={value:g} [N]", ours,
                 ref_res.peak_load,
-                f"finest run of this sweep ({param}={values[-1]:g})", wall,
+                f"finest run of this sweep ({param}={sweeps[param][-1]:g})", wall,
                 {**base, param: value},
                 {"curve_rel_diff": curve_err, "n_nodes": res.info["n_nodes"],
                  "steps": res.info["steps_indentation"], "dt_s": res.info["dt"],
@@ -538,7 +549,7 @@ def _converged_row(base, k_n, base_bars, finest_spacing, sweeps, quick, store) -
     info = full.info
     store["converged/delta"] = full.delta
     store["converged/load"] = full.load
-    converged = Estimate(full.peak_load, base_bars, notes="each sweep: base against the next finer")
+    converged = Estimate(full.peak_load, base_bars, notes="dem.estimate.sweep_errors, base levels")
     return Row(
         "converged: 5x5 theta=2.5 full run, peak load [N]", converged,
         finest_spacing.peak_load,
@@ -552,21 +563,11 @@ def _converged_row(base, k_n, base_bars, finest_spacing, sweeps, quick, store) -
     )  # fmt: skip
 
 
-def _sweep_estimate(param: str, values: list, peaks: list, i: int):
-    """Peak ``i`` of a sweep (coarse to fine) with the difference to the next finer run as its
-    bar (the finest: to the next coarser)."""
-    j = i + 1 if i + 1 < len(peaks) else i - 1
-    return two_levels(peaks[i], peaks[j], param, f"{param} {values[i]:g} against {values[j]:g}")
-
-
-def _base_bar(param: str, values: list, peaks: list, base_value: float) -> dict[str, float]:
-    """The error source of the base discretisation in one sweep: the difference between the
-    base run and the next finer one; none where the base is the finest (the unscaled mass is
-    the model itself, not an approximation of it)."""
-    i = values.index(base_value)
-    if i + 1 == len(values):
-        return {}
-    return {f"{param} ({values[i]:g} vs {values[i + 1]:g})": abs(peaks[i] - peaks[i + 1])}
+def _level_errors(param: str, values: list, peaks: list) -> list[float]:
+    """The error of the peak at each level of one sweep (coarse to fine) against the limit of
+    that parameter (:func:`dem.estimate.sweep_errors` at :data:`SWEEP_ORDER`)."""
+    exact_last = param == "mass_scaling" and values[-1] == EXACT_MASS_SCALING
+    return sweep_errors(values, peaks, SWEEP_ORDER[param], exact_last)
 
 
 def _curve_difference(res: IndentationResult, ref: IndentationResult) -> float:
