@@ -50,17 +50,6 @@ overshot, and the iteration cycled between states until the path-following stall
 band the action is the limit itself, so only the tangent changes: the one of continued plastic
 flow, which the next iterate corrects if the joint unloads.
 
-At the apex of the friction cone (no friction capacity, ``V_u <= 0``: a dry joint at
-``N = 0``, a bonded one pulled beyond ``c / mu``) the actions are 0 and the law is not
-differentiable. Its tangent is then the limit of the sliding tangent from the compressed side
-(an element of the generalised Jacobian, as the fibre law's springs take): the return onto a
-domain shrunk towards the apex lands on the support point of the trial's direction, so
-``dV = v_hat (dV_u / dq)`` and ``dM3' = m_hat (dV_u / dq)`` with ``dV_u = -mu dN``; the
-kernel takes it from the flow on a domain of ``APEX_FRACTION`` times the trial (on Eq. A5's
-domain; the exact domain's apex keeps ``floor`` times the elastic shear and torsion). Zero
-shear rows (the open side's) next to elastic normal rows (the compressed side's) would be a
-tangent of neither side.
-
 Ties at zero gaps are decided the same way whatever the round-off, with the touching gap
 ``touch`` = ``TOUCH`` (1e-12) times the model's extent (a parameter column), as in the fibre
 law (:mod:`dem.kernels.fibre_law`): a point of the joint opens only beyond it (its trial
@@ -89,7 +78,6 @@ STATE_CRUSHED = 8  # bit: the compressive strength is reached
 KINK_BAND = 1e-9  # relative band below a limit that already counts as yielding (module notes)
 OPEN_BAND = 1e-12  # relative open area above which a joint counts as detached
 TOUCH = 1e-12  # gaps below this fraction of the model's extent count as touching (notes)
-APEX_FRACTION = 1e-9  # friction capacity, relative to the trial, of the apex's tangent (notes)
 
 # columns of the per-interface parameter rows of the resultant law
 P_K = 0  # 0:6  elastic stiffnesses (k_n A, k_t A, k_t A, k_r J22, k_r J11, k_t Jp)
@@ -248,31 +236,10 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
     k = params[P_K : P_K + 6]
     touch = params[P_TOUCH]
     touch_force = params[P_STIFF] * touch * params[P_AREA]  # N of the touching gap
-    dims = params[P_DIMS : P_DIMS + 2]
-    theta = q[5] - qp[5]
-    # a touching joint (|N| within the touching gap's force) takes no friction from N
-    v_u = c - params[P_MU] * out_f[0] if abs(out_f[0]) > touch_force else c
-    at_apex = v_u <= 0.0
-    if at_apex:
-        # no friction capacity; an unloaded joint (a dry joint at N = 0, its elastic slip and
-        # twist below the touching gap) keeps its elastic tangent, so that the first
-        # iteration from the unloaded state sees it
-        slip = math.hypot(q[1] - qp[1], q[2] - qp[2])
-        unloaded = slip <= touch and abs(theta) * max(dims[0], dims[1]) <= touch
-        if unloaded or params[P_MU] <= 0.0 or params[P_DOMAIN] == DOMAIN_EXACT:
-            for i in (1, 2, 5):
-                out_f[i] = 0.0
-                out_qp[i] = qp[i] if unloaded else q[i]
-                out_D[i, i] = k[i] if unloaded else floor * k[i]
-            return STATE_ELASTIC if unloaded else STATE_SHEAR
-        # the apex of the friction cone (module notes): a domain shrunk to APEX_FRACTION of
-        # the trial, with the compression that gives it
-        v_u = APEX_FRACTION * (k[1] * slip + k[5] * abs(theta) / max(dims[0], dims[1]))
-        cap = max(cap, v_u / params[P_MU])
-        touch_force = 0.0
     centre, d_centre = np.zeros(2), np.zeros((2, 6))
     compression_centre(out_f, out_D, cap, touch_force, centre, d_centre)
     # elastic slip at the centre and twist: V = k_t A w, M3' = k_t J_p theta
+    theta = q[5] - qp[5]
     dv = np.zeros((2, 6))  # d V_trial / d q
     v1 = k[1] * (q[1] - qp[1] - theta * centre[1])
     v2 = k[2] * (q[2] - qp[2] + theta * centre[0])
@@ -282,6 +249,21 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
         dv[0, j] -= k[1] * theta * d_centre[1, j]
         dv[1, j] += k[2] * theta * d_centre[0, j]
     m_t = k[5] * theta
+    # a touching joint (|N| within the touching gap's force) takes no friction from N
+    v_u = c - params[P_MU] * out_f[0] if abs(out_f[0]) > touch_force else c
+    dims = params[P_DIMS : P_DIMS + 2]
+    if v_u <= 0.0:
+        # no friction capacity; an unloaded joint (a dry joint at N = 0, its elastic slip and
+        # twist below the touching gap) keeps its elastic tangent, so that the first
+        # iteration from the unloaded state sees it
+        unloaded = (
+            math.hypot(v1, v2) <= k[1] * touch and abs(theta) * max(dims[0], dims[1]) <= touch
+        )
+        for i in (1, 2, 5):
+            out_f[i] = 0.0
+            out_qp[i] = qp[i] if unloaded else q[i]
+            out_D[i, i] = k[i] if unloaded else floor * k[i]
+        return STATE_ELASTIC if unloaded else STATE_SHEAR
     out_f[1], out_f[2], out_f[5] = v1, v2, m_t
     if params[P_DOMAIN] == DOMAIN_EXACT:
         mu = params[P_MU] if abs(out_f[0]) > touch_force else 0.0
@@ -301,8 +283,6 @@ def shear_and_torsion(q, qp, params, c, cap, floor, out_f, out_qp, out_D):
     for j in range(6):
         out_D[5, j] += d_centre[0, j] * out_f[2] + centre[0] * out_D[2, j]
         out_D[5, j] -= d_centre[1, j] * out_f[1] + centre[1] * out_D[1, j]
-    if at_apex:  # the apex's actions are 0; only its tangent came from the shrunk domain
-        out_f[1], out_f[2], out_f[5] = 0.0, 0.0, 0.0
     if state == STATE_SHEAR:
         twist = (out_f[5] - centre[0] * out_f[2] + centre[1] * out_f[1]) / k[5]
         out_qp[1] = q[1] - out_f[1] / k[1] - twist * centre[1]
