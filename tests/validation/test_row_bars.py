@@ -41,7 +41,6 @@ EXEMPT: dict[str, tuple[tuple[str, str], ...]] = {
     "fem-tis-stress": (("wall time", "a wall time on a shared machine has no converged value"),),
     "limit-orduna": (("estimate (b) fixed-capacity iteration", ITERATION),),
     "limit-restrepo": (("estimate (b) fixed-capacity iteration", ITERATION),),
-    "crosscheck-examples": (("readme: estimate (b) within bounds (resultant)", ITERATION),),
     "tis-friction-uq": (("deterministic mu = 0.23: peak load", EXPLICIT),),
     "tis-gaps-uq": (("peak load", EXPLICIT),),
     "tis-friction": ((": loading energy", EXPLICIT),),
