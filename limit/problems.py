@@ -26,11 +26,12 @@ with ``A_eq = -H^T`` (:mod:`limit.matrices`) and one convex admissible set
         \left(\frac{|M_3|}{c_T \mu c}\right)^{\alpha}
         + \frac{V_1^2 + V_2^2}{(\mu c)^2} \le 1,
 
-    which is convex for :math:`\alpha \ge 1` and is written exactly as one power cone
+    which is convex for :math:`\alpha \ge 1` and is written exactly as
     :math:`|M_3| \le (c_T\mu\tau_1)^{1/\alpha}(c_T\mu c)^{1-1/\alpha}`, one rotated
-    second-order cone :math:`\|V\|^2 \le \mu^2 \tau_2 c` and :math:`\tau_1 + \tau_2 \le c`
-    (with fixed capacities, second-order cones in place of the power cone where ``1/alpha``
-    is a fraction of small denominator, as the seed's 1.5: :func:`limit.cones.power_mean`).
+    second-order cone :math:`\|V\|^2 \le \mu^2 \tau_2 c` and :math:`\tau_1 + \tau_2 \le c`;
+    the first is a few rotated second-order cones where ``1/alpha`` is a fraction of small
+    denominator, as the seed's 1.5, and one power cone otherwise
+    (:func:`limit.cones.power_mean`; Clarabel's symmetric-cone steps stall less).
     It contains the Coulomb circle and :math:`|M_3| \le c_T \mu c`. ``torsion="independent"``
     keeps only these two (no interaction: a larger set). Like the seed's law it measures the
     torsion about the interface centroid, whereas with an eccentric normal force the friction
@@ -630,7 +631,7 @@ def _resultant_friction(prog, data, settings, friction, fv, c_hat, finite) -> No
     if friction == "coulomb":
         # |M3| <= (cT mu tau1)^(1/alpha) (cT mu c)^(1 - 1/alpha); |V|^2 <= mu^2 tau2 c
         k_t = cp.multiply(ct_hat, mu_f)
-        cons.append(cp.PowCone3D(cp.multiply(k_t, tau1), cap_t, m3, 1.0 / alpha))
+        cons += power_mean(m3, cp.multiply(k_t, tau1), cap_t, 1.0 / alpha, n_f)
         u, w = cp.multiply(mu_f, tau2), cap_s
         cons.append(tau1 + tau2 <= c_f)
     else:

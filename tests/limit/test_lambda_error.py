@@ -35,6 +35,26 @@ def test_bar_holds_the_pure_torsion_closed_form():
     assert est.contains(0.7 * 240.0 * math.hypot(0.15, 0.1))
 
 
+@pytest.mark.parametrize(("alpha", "power_cone"), [(1.5, False), (1.7, True)])
+def test_bar_holds_pure_torsion_in_either_form_of_the_interaction(alpha, power_cone):
+    """Resultant model, pure torsion: m_3 = c_T mu N whatever alpha (seed 001 Eq. 11-12),
+    with the torsion written as rotated second-order cones (1/1.5 = 2/3) or as a power cone
+    (1/1.7 = 10/17)."""
+    import cvxpy as cp
+
+    settings = LimitSettings(interface_model="resultant", torsion_alpha=alpha)
+    sp_ = build_static_problem(torsion_pair(), settings)
+    assert any(isinstance(c, cp.PowCone3D) for c in sp_.problem.constraints) == power_cone
+    l1, l2 = 0.3, 0.2
+    d = math.hypot(l1, l2)
+    c_t = (
+        d + l1**2 / (2 * l2) * math.log((l2 + d) / l1) + l2**2 / (2 * l1) * math.log((l1 + d) / l2)
+    ) / 6
+    est = limit_analysis(torsion_pair(), settings).lambda_estimate
+    assert est.contains(c_t * 0.7 * 240.0)
+    assert est.error < 1e-7 * est.value
+
+
 @pytest.mark.parametrize("offset", [1e-3, -1e-3, 1e-6])
 def test_a_point_off_the_optimum_gets_a_bar_that_reaches_the_optimum(offset):
     """Feed the certificate a wrong multiplier (the solved forces with lambda moved by

@@ -238,13 +238,27 @@ def test_the_crosscheck_verdict_catches_an_estimate_above_the_bound_in_any_load_
     assert not result.consistent
 
 
-def test_an_accurate_result_after_a_retry_comes_without_a_warning():
-    """A 0.2 x 0.6 m block pushed sideways with mu = 0.1 (resultant model): Clarabel's first
-    solve ends optimal_inaccurate, the short-step retry optimal (lambda = mu, closed form).
-    cvxpy's 'Solution may be inaccurate' of the first attempt reached the user with that
-    accurate result; the only warning is the toolkit's own, for an inaccurate return."""
+def test_an_accurate_result_after_a_retry_comes_without_a_warning(monkeypatch):
+    """A 0.2 x 0.6 m block pushed sideways with mu = 0.1 (resultant model), its first solve
+    stopped by Clarabel after 3 iterations with loose reduced tolerances (AlmostSolved, which
+    cvxpy reports as optimal_inaccurate with its 'Solution may be inaccurate' warning), the
+    short-step retry optimal (lambda = mu, closed form). cvxpy's warning of the first attempt
+    must not reach the user with that accurate result; the only warning is the toolkit's
+    own, for an inaccurate return."""
     import warnings
 
+    from limit import clarabel
+
+    real = clarabel.run_clarabel
+    stopped = {"max_iter": 3, **{f"reduced_tol_{k}": 1e3 for k in ("gap_abs", "gap_rel")}}
+    stopped |= {"reduced_tol_feas": 1e3, "reduced_tol_ktratio": 1e3}
+
+    def first_stopped(problem, settings, attempt=clarabel.REFINED):
+        if attempt.label == "refined":
+            settings = settings.with_(clarabel={**settings.clarabel, **stopped})
+        return real(problem, settings, attempt)
+
+    monkeypatch.setattr(clarabel, "run_clarabel", first_stopped)
     ground = box((-2.0, -1.0, -0.2), (2.0, 1.0, 0.0))
     blk = box((-0.1, -0.1, 0.0), (0.1, 0.1, 0.6))
     scene = Scene.from_convex_blocks([ground, blk], 2000.0, fixed=[0], mu=0.6)

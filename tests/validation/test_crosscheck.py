@@ -419,3 +419,24 @@ def test_a_fem_check_that_solved_no_block_says_so(tmp_path):
     md = markdown(result, {}, {"git_commit": "0" * 40, "date": "today"})
     assert "No block was solved at the state dem-fibre (lambda = 0.5): " + reason in md
     assert "None MPa" not in md and "largest tension" not in md
+
+
+def test_the_residual_bar_bounds_the_round_off_of_a_balanced_block():
+    """A block moved to an arbitrary pose, its weight carried by equal point forces at its
+    vertices (balanced exactly: the centroid of a box is the mean of its vertices): the
+    computed residual is round-off only and lies within its bar, also 1e4 m from the origin; an
+    imbalance of 1e-8 of the load scale lies outside it (the bar is no tolerance)."""
+    from fem_check.loads import BlockLoad
+    from validation.cases.bars import moved_copy
+    from validation.crosscheck.fem_step import block_residual, residual_round_off
+
+    for offset in (0.37, 123.4, 1e4):
+        block = moved_copy(stack(1, 0.3, 0.2, 0.5).assembly, offset).blocks[0]
+        gravity = np.array([0.0, 0.0, -9.81])
+        weight = 2000.0 * block.volume * gravity
+        share = np.tile(-weight / len(block.vertices), (len(block.vertices), 1))
+        load = BlockLoad(block.vertices, share, density=2000.0, gravity=gravity)
+        bar = residual_round_off(load, block)
+        assert block_residual(load, block) <= bar < 1e-8
+        tilted = BlockLoad(block.vertices, share * (1 + 2e-8), density=2000.0, gravity=gravity)
+        assert block_residual(tilted, block) > bar

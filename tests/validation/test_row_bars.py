@@ -24,7 +24,6 @@ EXPLICIT = (
     "an explicit DEM indentation quantity without a finite bar of its own (dem.explicit: the "
     "loading energy's loading-rate rerun, or a run made with the 'none' budget)"
 )
-CROSSCHECK = "a cross-check line whose method gives no bar (validation.crosscheck)"
 ITERATION = (
     "estimate (b), whose fixed-capacity iteration does not converge here (its steps do not "
     "shrink): there is no fixed point to bound"
@@ -42,17 +41,6 @@ EXEMPT: dict[str, tuple[tuple[str, str], ...]] = {
     "fem-tis-stress": (("wall time", "a wall time on a shared machine has no converged value"),),
     "limit-orduna": (("estimate (b) fixed-capacity iteration", ITERATION),),
     "limit-restrepo": (("estimate (b) fixed-capacity iteration", ITERATION),),
-    "crosscheck-examples": tuple(
-        (line, CROSSCHECK)
-        for line in (
-            "stands under its dead load",
-            "lower <= upper",
-            "explicit run collapsed",
-            "explicit lambda_stable <= upper",
-            "explicit DEM agrees with the static DEM",
-            "FEM residual small",
-        )
-    ),
     "tis-friction-uq": (("deterministic mu = 0.23: peak load", EXPLICIT),),
     "tis-gaps-uq": (("peak load", EXPLICIT),),
     "tis-friction": ((": loading energy", EXPLICIT),),

@@ -194,21 +194,31 @@ FIBRE_CHECK_POINTS = 7
 FIBRE_GRID_SOURCE = f"fibre grid (against {FIBRE_CHECK_POINTS} points per side)"
 
 
+def _collapse_lambda(result: StaticResult | None) -> float | None:
+    """The collapse multiplier of ``result`` [-], or None where it did not collapse."""
+    return result.lambda_max if result is not None and result.collapsed else None
+
+
+def _rerun_lambda(scene, settings, what: str) -> float | None:
+    """The collapse multiplier of a check rerun of ``scene`` under ``settings`` [-], or None
+    where the rerun does not collapse or its solver fails (logged under ``what``)."""
+    try:
+        return _collapse_lambda(solve_collapse(scene, settings))
+    except StaticSolverError as exc:
+        logger.warning("%s: %s", what, exc)
+        return None
+
+
 def _fibre_grid_check(row: Row, result: StaticResult | None, scene, settings) -> None:
     """Rerun a fibre-law row (``result`` of ``scene`` under ``settings``) on a finer grid
     (``FIBRE_CHECK_POINTS`` per side) and record that lambda [-] and its relative change in
     ``row.extra``: the discretisation error of the grid the row used (no change where either
     run does not collapse), also added to the row's error sources."""
     check = replace(settings, fibre_points=FIBRE_CHECK_POINTS)
-    try:
-        finer = solve_collapse(scene, check)
-        lam = finer.lambda_max if finer.collapsed else None
-    except StaticSolverError as exc:
-        logger.warning("fibre grid check %s: %s", row.quantity, exc)
-        lam = None
+    lam = _rerun_lambda(scene, check, f"fibre grid check {row.quantity}")
     row.extra["fibre_check_points"] = FIBRE_CHECK_POINTS
     row.extra["lambda_fibre_check"] = lam
-    base = result.lambda_max if result is not None and result.collapsed else None
+    base = _collapse_lambda(result)
     row.extra["fibre_grid_change"] = None if base is None or lam is None else lam / base - 1.0
     has_grid = any(k.startswith("fibre grid") for k in row.error_sources)
     if row.ours is not None and base is not None and lam is not None and not has_grid:
@@ -230,13 +240,8 @@ def _shear_torsion_check(row: Row, result: StaticResult | None, scene, settings)
     model, and the row reproduces it)."""
     law = replace(settings.law_settings, shear_torsion="exact")
     check = replace(settings, law=law, interface_model=None)
-    try:
-        exact = solve_collapse(scene, check)
-        lam = exact.lambda_max if exact.collapsed else None
-    except StaticSolverError as exc:
-        logger.warning("exact shear-torsion check %s: %s", row.quantity, exc)
-        lam = None
-    base = result.lambda_max if result is not None and result.collapsed else None
+    lam = _rerun_lambda(scene, check, f"exact shear-torsion check {row.quantity}")
+    base = _collapse_lambda(result)
     change = None if base is None or lam is None else lam / base - 1.0
     row.extra["lambda_exact_shear_torsion"] = lam
     row.extra["shear_torsion_change"] = change

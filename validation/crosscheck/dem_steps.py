@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, field, replace
 
+from dem.estimate import Estimate
 from dem.explicit import RigidContinuation, simulate_lateral
 from dem.explicit.lateral import DEVELOP_FACTOR, LiveLoadRamp
 from dem.scene import Scene
@@ -148,8 +149,10 @@ class ExplicitLateral:
 
 def _estimates(res) -> dict:
     """The multiplier at the material stiffness (``lambda_c``) and its rigid limit
-    (``lambda_rigid``) with their bars, and the continuation's levels, for the report."""
-    out: dict = {"estimates": {}}
+    (``lambda_rigid``) with their bars, the last load level at rest (``lambda_stable``: a
+    multiplier the ramp applied, exact), and the continuation's levels, for the report."""
+    at_rest = Estimate(res.lambda_stable, {"exact": 0.0}, notes="applied by the ramp, at rest")
+    out: dict = {"estimates": {"lambda_stable": at_rest.to_dict()}}
     if res.estimate is not None:
         out["lambda_c"] = res.estimate.value
         if math.isfinite(res.estimate.error):  # error budget "none": no bar to judge by

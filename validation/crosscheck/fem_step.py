@@ -22,9 +22,11 @@ from dem.scene import Scene
 from fem_check.elastic import BlockSolver, ElasticMaterial
 from fem_check.loads import (
     EQUILIBRIUM_REL_TOL,
+    BlockLoad,
     EquilibriumError,
     InterfaceResultants,
     interface_block_loads,
+    polygon_quadrature,
 )
 from fem_check.mesh import MeshingError, MeshSettings
 from fem_check.recovery import recover_nodal_stress, summarise
@@ -32,6 +34,35 @@ from fem_check.stress_output import stress_field
 from validation.crosscheck.steps import Context, StepResult
 
 DEM_STEPS = ("dem-fibre", "dem-resultant")
+EPS = float(np.finfo(float).eps)
+OPS_PER_TERM = 64
+"""A generous count of the floating-point operations that make one term of a block's load
+resultant (a quadrature weight from the polygon's triangles, the traction's affine field at the
+point, the lever arm's cross product, the sum)."""
+
+
+def block_residual(load: BlockLoad, block) -> float:
+    """Relative equilibrium residual [-] of a block's loads: the larger of the force
+    imbalance over the load scale and the moment imbalance over the load scale times the block
+    size (:meth:`fem_check.loads.BlockLoad.scale`)."""
+    f, m = load.resultant(block)
+    scale = load.scale(block)
+    return float(max(np.linalg.norm(f) / scale, np.linalg.norm(m) / (scale * block.size)))
+
+
+def residual_round_off(load: BlockLoad, block) -> float:
+    r"""Bound [-] on the rounding of a block's relative equilibrium residual: Higham's
+    :math:`\gamma_n \sum |x_i|` (*Accuracy and Stability of Numerical Algorithms*, 2nd ed.,
+    Sec. 4.2) with :math:`\sum |x_i|` at most the load scale the residual is divided by (lever
+    arms at most the block size for the moment), ``n`` the terms (point forces, quadrature
+    points of the traction patches, one per vertex for the body load) times
+    :data:`OPS_PER_TERM`, times ``1 + |x|_max / size``: a lever arm is a difference of
+    coordinates, rounded relative to the coordinates, not to the block. A residual above it is
+    the DEM state's, not its computation's."""
+    quad = sum(len(polygon_quadrature(p.polygon, 2)[1]) for p in load.patches)
+    terms = len(load.forces) + quad + len(block.vertices)
+    reach = 1.0 + float(np.abs(block.vertices).max()) / block.size
+    return terms * OPS_PER_TERM * EPS * reach
 
 
 def _state(ctx: Context) -> StepResult | None:
@@ -122,16 +153,16 @@ class FemCheck:
             ld = dataclasses.replace(
                 loads[i], gravity=scene.loads.gravity + extra[i, :3] / a.mass[i]
             )
-            f, m = ld.resultant(a.blocks[i])
-            scale = ld.scale(a.blocks[i])
+            f, _ = ld.resultant(a.blocks[i])
             # a restrained translation's reaction acts at the centroid (the DEM dof)
             reaction = np.where(restrained[i, :3], -f, 0.0)
             ld = dataclasses.replace(ld, gravity=ld.gravity + reaction / a.mass[i])
-            f, m = ld.resultant(a.blocks[i])
-            residual = max(
-                np.linalg.norm(f) / scale, np.linalg.norm(m) / (scale * a.blocks[i].size)
-            )
-            row = {"block": int(i), "residual": float(residual), "load_scale_N": float(scale)}
+            row = {
+                "block": int(i),
+                "residual": block_residual(ld, a.blocks[i]),
+                "residual_round_off": residual_round_off(ld, a.blocks[i]),
+                "load_scale_N": ld.scale(a.blocks[i]),
+            }
             try:
                 sol = solver.solve(a.blocks[i], ld, f"block {i}")
             except EquilibriumError:
@@ -164,8 +195,10 @@ def _summary(rows: list[dict], skipped: list[int], rel_tol: float) -> dict:
     solved = [r for r in rows if "max_principal" in r]
     worst_t = max(solved, key=lambda r: r["max_principal"], default=None)
     worst_c = min(solved, key=lambda r: r["min_principal"], default=None)
+    worst_r = max(rows, key=lambda r: r["residual"], default=None)
     return {
-        "max_residual": max((r["residual"] for r in rows), default=None),
+        "max_residual": None if worst_r is None else worst_r["residual"],
+        "max_residual_round_off": None if worst_r is None else worst_r["residual_round_off"],
         "residual_tolerance": rel_tol,
         "max_tension_Pa": None if worst_t is None else worst_t["max_principal"],
         "max_tension_block": None if worst_t is None else worst_t["block"],

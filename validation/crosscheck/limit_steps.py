@@ -7,8 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from dem.estimate import Estimate
 from dem.scene import Scene
 from limit import LimitSettings, NoMechanismError, bounds_and_estimates, stands
+from limit.lambda_error import solver_estimate
 from validation.crosscheck.steps import (
     Context,
     StepResult,
@@ -39,6 +41,7 @@ class DeadLoadCheck:
             "blocks": list(res.blocks),
             "interfaces": list(res.interfaces),
         }
+        values = put_estimates(values, load_factor=load_factor_estimate(res))
         return StepResult(
             self.name,
             self.method,
@@ -49,6 +52,17 @@ class DeadLoadCheck:
             values,
             res,
         )
+
+
+def load_factor_estimate(res) -> Estimate:
+    """The carried fraction of the dead load (:class:`limit.deadload.StandsResult`) with the
+    solver error of its programme (:func:`limit.lambda_error.solver_estimate`: duality gap and
+    feasibility shift of the certificate); exact where it was decided without a solve
+    (nothing loaded: 1, a block without any support: 0)."""
+    if res.certificate is None:
+        why = "decided without a solve (nothing loaded, or a block without support)"
+        return Estimate(res.load_factor, {"exact": 0.0}, notes=why)
+    return solver_estimate(res.load_factor, res.certificate)
 
 
 def _cert(certificate) -> dict | None:
@@ -118,6 +132,7 @@ class LimitBounds:
         values = put_estimates(
             values,
             upper=b.upper_estimate,
+            lower=None if values["lower"] is None else b.lower_estimate,
             reduced_mu=b.reduced_mu_estimate,
             iterative=None if it is None else it.estimate,
         )
