@@ -41,9 +41,9 @@ def _dead_load(scene, **kw):
 def test_wall_over_an_opening_is_carried_in_increments():
     # 7 x 9 wall with two return walls of blocks (as seed 001 S23), an opening 3 blocks wide
     # over courses 3-6: the blocks over it corbel on their neighbours. The limit analysis
-    # certifies that it stands; one Newton solve of the whole dead load (the old solver; here
-    # dead_min_step = 1) stalls under each of the three OpenBLAS kernels, the increments carry
-    # it (561 iterations under each).
+    # certifies that it stands; the dead load in increments and in one Newton solve
+    # (dead_min_step = 1; it stalled while the shear-torsion return lost the torsion's digits
+    # near the sliding corner) both end in equilibrium.
     from limit import stands
 
     opening = [(1 * B, 3 * A, 4 * B, 6 * A)]
@@ -51,10 +51,11 @@ def test_wall_over_an_opening_is_carried_in_increments():
         7, 9, A, B, S, 26.8, mu=0.7, returns=("left", "right"), openings_mm=opening
     )
     assert stands(scene).stands
-    with pytest.raises(DeadLoadError):
-        _dead_load(scene, dead_min_step=1.0)
-    model, point = _dead_load(scene)
-    assert np.linalg.norm(point.residual) <= 1e-6 * model.dead_norm
+    for min_step in (1.0, None):
+        model, point = (
+            _dead_load(scene) if min_step is None else _dead_load(scene, dead_min_step=min_step)
+        )
+        assert np.linalg.norm(point.residual) <= 1e-6 * model.dead_norm
 
 
 def test_wall_over_a_too_wide_opening_is_not_carried():
