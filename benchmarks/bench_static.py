@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import argparse
 import cProfile
-import dataclasses
 import json
 import logging
 import math
@@ -50,7 +49,7 @@ import time
 from pathlib import Path
 
 from dem.estimate import format_estimate
-from dem.scene import Scene, proportional_to_weight
+from dem.scene import Scene
 from dem.scenes.running_bond_wall import running_bond_wall
 from dem.scenes.seed001_walls import (
     RESTREPO_BLOCK_MM,
@@ -263,14 +262,10 @@ def scaling(sizes, collapse_max: int) -> None:
 def in_plane_wall(n_per_course: int, n_courses: int) -> Scene:
     """A running-bond wall of Restrepo-Velez blocks on a fixed foundation, mu 0.7, with the
     live load = each free block's weight along +x (in its plane)."""
-    scene = running_bond_wall(
+    return running_bond_wall(
         n_per_course, n_courses, *RESTREPO_BLOCK_MM, RESTREPO_UNIT_WEIGHT, mu=RESTREPO_MU,
-        live="none",
+        live="in_plane", name=f"in_plane_{n_per_course}x{n_courses}",
     )  # fmt: skip
-    live = proportional_to_weight(scene.assembly, (1.0, 0.0, 0.0))
-    live[scene.supports.fixed] = 0.0
-    loads = dataclasses.replace(scene.loads, live_wrench=live)
-    return dataclasses.replace(scene, loads=loads, name=f"in_plane_{n_per_course}x{n_courses}")
 
 
 PROFILED = {

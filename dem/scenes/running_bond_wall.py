@@ -38,7 +38,7 @@ def check_sides(name: str, value, allowed: tuple[str, ...]) -> None:
         raise ValueError(f"{name} must be a subset of {allowed}, got {bad}")
 
 
-LIVE_LOADS = ("weight", "pressure", "none")
+LIVE_LOADS = ("weight", "pressure", "in_plane", "none")
 OUT_OF_PLANE = 1  # index of uy among the block dofs
 
 
@@ -227,10 +227,11 @@ def running_bond_wall(
     beam_loads_kn : sequence of (x, force)
         Dead downward forces [kN] at ``x`` [mm] on top of the wall (beams), applied to the top
         block under ``x`` at the middle of its top face.
-    live : {"weight", "pressure", "none"}
+    live : {"weight", "pressure", "in_plane", "none"}
         Live load scaled by lambda: each free block's weight acting along +y
-        (lambda dimensionless), or a uniform pressure on the face ``y = -s/2`` pushing along
-        +y (lambda in Pa).
+        (lambda dimensionless), a uniform pressure on the face ``y = -s/2`` pushing along
+        +y (lambda in Pa), or each free block's weight along +x, in the wall's plane
+        (lambda dimensionless).
 
     Returns
     -------
@@ -321,6 +322,8 @@ def _live_wrench(assembly: Assembly, live: str, fixed: np.ndarray) -> np.ndarray
     """(n_blocks, 6) live pattern of :func:`running_bond_wall`, zero on fixed blocks."""
     if live == "weight":
         out = proportional_to_weight(assembly, (0.0, 1.0, 0.0))
+    elif live == "in_plane":
+        out = proportional_to_weight(assembly, (1.0, 0.0, 0.0))
     elif live == "pressure":
         out = uniform_pressure(assembly, (0.0, 1.0, 0.0), np.flatnonzero(~fixed))
     else:

@@ -65,6 +65,18 @@ def test_supports_and_live_loads():
     np.testing.assert_allclose(scene.loads.live_wrench[fixed], 0.0)
 
 
+def test_in_plane_live_load_is_the_free_blocks_weight_along_x():
+    # 4 x 3 wall of unit weight 20 kN/m^3 with a fixed left column: the live force is the
+    # weight (volume x unit weight) of the 10 free blocks, along +x only, none on fixed blocks
+    scene = running_bond_wall(4, 3, A, B, S, 20.0, fixed_columns=["left"], live="in_plane")
+    fixed = scene.supports.fixed
+    weight = 20.0e3 * scene.assembly.volume[~fixed].sum()
+    live = scene.loads.live_wrench
+    np.testing.assert_allclose(live[:, 0].sum(), weight, rtol=1e-12)
+    np.testing.assert_allclose(live[:, 1:3], 0.0)
+    np.testing.assert_allclose(live[fixed], 0.0)
+
+
 def test_beam_load_is_a_dead_force_on_the_top_block():
     scene = running_bond_wall(4, 3, A, B, S, 20.0, beam_loads_kn=[(500.0, 2.0)])
     hit = np.flatnonzero(np.abs(scene.loads.dead_wrench[:, 2]) > 0)

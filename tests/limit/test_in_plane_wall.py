@@ -1,12 +1,9 @@
 """An in-plane running-bond wall (Restrepo-Velez blocks, mu 0.7, live load = weight along +x):
 the associated programme of the resultant model, torsion interaction with alpha = 1.5."""
 
-import dataclasses
-
 import cvxpy as cp
 import pytest
 
-from dem.scene import proportional_to_weight
 from dem.scenes.running_bond_wall import running_bond_wall
 from dem.scenes.seed001_walls import RESTREPO_BLOCK_MM, RESTREPO_MU, RESTREPO_UNIT_WEIGHT
 from limit import cones
@@ -15,13 +12,10 @@ from limit.problems import LimitSettings, build_static_problem
 
 
 def _in_plane_wall(n_per_course: int, n_courses: int):
-    scene = running_bond_wall(
+    return running_bond_wall(
         n_per_course, n_courses, *RESTREPO_BLOCK_MM, RESTREPO_UNIT_WEIGHT, mu=RESTREPO_MU,
-        live="none",
+        live="in_plane",
     )  # fmt: skip
-    live = proportional_to_weight(scene.assembly, (1.0, 0.0, 0.0))
-    live[scene.supports.fixed] = 0.0
-    return dataclasses.replace(scene, loads=dataclasses.replace(scene.loads, live_wrench=live))
 
 
 @pytest.fixture(scope="module")
