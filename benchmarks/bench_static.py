@@ -98,6 +98,7 @@ def run_wall(name: str, model: str, variant: str) -> dict:
     return {
         **row,
         "lam": result.lambda_max if result.collapsed else None,
+        "lam_error": result.lambda_estimate.error if result.collapsed else None,
         "termination": result.termination,
         "steps": result.n_steps,
         "iterations": result.n_iterations,
@@ -117,11 +118,12 @@ def table2_runs(names) -> list[tuple[str, str, str]]:
 
 def _line(r: dict) -> str:
     lam = "no collapse" if r["lam"] is None else f"{r['lam']:.4f}"
+    share = r.get("failed_iterations", 0) / max(r["iterations"], 1)
     ok = "OK" if r["wall_s"] <= TARGET_S else "over target"
     return (
         f"{r['name']:9s} {r['model']:9s} {r['variant']:12s} lambda {lam:>11s} "
         f"{r['termination']:10s} steps {r['steps']:4d} iterations {r['iterations']:5d} "
-        f"(failed {r.get('failed_iterations', 0):5d}) {r['wall_s']:7.2f} s  {ok}"
+        f"(failed {r.get('failed_iterations', 0):5d}, {share:4.0%}) {r['wall_s']:7.2f} s  {ok}"
     )
 
 
@@ -140,6 +142,10 @@ def _ratios(r: dict, before: dict | None) -> str:
         dlam = "lambda: " + ("same termination" if r["lam"] is before["lam"] else "changed")
     else:
         dlam = f"lambda {before['lam']:.4f} -> {r['lam'] / before['lam'] - 1:+.2%}"
+        bar = r.get("lam_error")
+        if bar is not None:
+            inside = abs(r["lam"] - before["lam"]) <= bar
+            dlam += f" ({'within' if inside else 'OUTSIDE'} its bar +- {bar:.2g})"
     return f"  time {time_ratio:4.2f}x  iterations {iter_ratio:4.2f}x  {dlam}"
 
 
@@ -161,6 +167,12 @@ def table2(names, save: Path | None = None, baseline: Path | None = None) -> Non
         print(_line(r) + extra, flush=True)
         if save is not None:
             save.write_text(json.dumps(rows, indent=1))
+    total = sum(r["iterations"] for r in rows)
+    failed = sum(r["failed_iterations"] for r in rows)
+    print(
+        f"failed share over {len(rows)} runs: {failed} of {total} iterations "
+        f"({failed / max(total, 1):.0%})"
+    )
     if before:
         _totals(rows, before)
 

@@ -50,3 +50,49 @@ def test_a_nan_tangent_is_an_error_naming_the_interface(monkeypatch, when):
     with pytest.raises(StaticSolverError, match="NaN or inf in the tangent") as err:
         solve_collapse(scene, StaticSettings(mu=0.7))
     assert err.value.interfaces == [4] and 1 <= len(err.value.blocks) <= 2
+
+
+def test_contraction_monitor_stops_a_diverging_or_stalled_solve_only():
+    from dem.static.newton import STAGNATION_WINDOW, THETA_MAX, Contraction
+
+    diverging = Contraction()
+    assert diverging.correction(np.array([1.0, 0.0])) == ""
+    assert "contraction" in diverging.correction(np.array([0.0, 1.5 * THETA_MAX]))
+    assert diverging.theta0 == pytest.approx(1.5 * THETA_MAX)
+    # a residual that falls below half of its value STAGNATION_WINDOW iterations ago never
+    # stops; one that stays for more than STAGNATION_WINDOW iterations does
+    falling, stalled = Contraction(), Contraction()
+    norms = [0.6**k for k in range(3 * STAGNATION_WINDOW)]
+    assert all(falling.residual(r) == "" for r in norms)
+    stops = [stalled.residual(1e3) for _ in range(STAGNATION_WINDOW + 1)]
+    assert stops[:-1] == [""] * STAGNATION_WINDOW and "not halved" in stops[-1]
+
+
+@pytest.mark.parametrize("factor", [30.0, 1000.0])
+def test_a_watched_solve_converges_as_the_unwatched_one_or_stops_early(factor):
+    # the monitor only stops solves: one that converges watched has taken exactly the
+    # iterations of the unwatched solve and ends at the same equilibrium; a step far too long
+    # (1000 first increments on a small wall: no convergence in the whole budget) stops
+    # before the budget, naming why
+    from dem.static.dead_load import solve_dead_load
+    from dem.static.newton import Constraint, Corrector
+    from dem.static.path import first_increment
+
+    scene = running_bond_wall(3, 3, 81, 210, 70, 20, 0.7, live="weight")
+    settings = StaticSettings(mu=0.7)
+    model = Model(scene, settings)
+    corrector = Corrector(model, settings)
+    dead, _ = solve_dead_load(corrector)
+    dc = factor * first_increment(model, corrector, dead.u)
+    con = Constraint(w=model.w, c=float(model.w @ dead.u) + dc, dc=dc)
+    plain = corrector.solve(dead, con)
+    watched = corrector.solve(dead, con, watch=True)
+    if factor < 100:
+        assert plain.converged and watched.converged and plain.iterations > 1
+        assert watched.iterations == plain.iterations
+        np.testing.assert_array_equal(watched.point.u, plain.point.u)
+        assert watched.point.lam == plain.point.lam
+    else:
+        assert not plain.converged and plain.iterations == settings.max_iterations
+        assert not watched.converged and watched.stopped
+        assert watched.iterations < plain.iterations
