@@ -745,6 +745,7 @@ def _rt_timing_row(n_cells: int) -> Row:
         "",
         rec.wall_s,
         {"n_cells": n_cells, "n_triangles": len(rec.tri_area)},
+        cost=True,
     )
 
 
