@@ -19,14 +19,7 @@ EXPLICIT = (
     "an explicit DEM indentation quantity without a finite bar of its own (dem.explicit: the "
     "loading energy's loading-rate rerun, or a run made with the 'none' budget)"
 )
-ITERATION = (
-    "estimate (b), whose fixed-capacity iteration does not converge here (its steps do not "
-    "shrink): there is no fixed point to bound"
-)
-
 EXEMPT: dict[str, tuple[tuple[str, str], ...]] = {
-    "limit-orduna": (("estimate (b) fixed-capacity iteration", ITERATION),),
-    "limit-restrepo": (("estimate (b) fixed-capacity iteration", ITERATION),),
     "tis-friction-uq": (("deterministic mu = 0.23: peak load", EXPLICIT),),
     "tis-gaps-uq": (("peak load", EXPLICIT),),
     "tis-friction": ((": loading energy", EXPLICIT),),
