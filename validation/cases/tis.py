@@ -160,14 +160,15 @@ def energy_check(res: IndentationResult) -> float:
 def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict) -> list[Row]:
     """Peak load, deflection at peak, loading energy and ultimate deflection of one run, each
     with the run's own error bar (``res.estimates``; the peak row's ``error_cost_s`` is the
-    wall time of its reruns [s]); no ultimate deflection when the run stopped before the block
-    was out (blocks passing through each other where no contact node was seeded,
-    :mod:`dem.explicit.unmodelled`)."""
+    wall time of its reruns [s]); no ultimate deflection and no loading energy when the run
+    stopped before the block was out (blocks passing through each other where no contact node
+    was seeded, :mod:`dem.explicit.unmodelled`), :func:`loading_energy`."""
     wall = res.info["wall_s"]
     est = res.estimates
     extra = {**extra, "energy_over_work_max": energy_check(res),
              "error_cost_s": est["peak_load"].cost_s}  # fmt: skip
     ultimate = est.get("ultimate_deflection")
+    energy = loading_energy(res)
 
     def row(quantity: str, ours, more: dict | None = None) -> Row:
         return Row(f"{label}: {quantity}", ours, None, "", wall, settings, more or {})
@@ -175,7 +176,11 @@ def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict)
     return [
         row("peak load [N]", est["peak_load"], extra),
         row("deflection at peak [mm]", per_unit(est["deflection_at_peak"], MM)),
-        row("loading energy [N mm]", per_unit(est["loading_energy"], MM)),
+        row(
+            "loading energy [N mm]",
+            None if energy is None else per_unit(energy, MM),
+            {} if energy is not None else _no_energy(res),
+        ),
         row(
             "ultimate deflection [mm]",
             None if ultimate is None else per_unit(ultimate, MM),
@@ -184,39 +189,60 @@ def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict)
     ]
 
 
+def loading_energy(res: IndentationResult) -> Estimate | None:
+    """The loading energy with its bar, or None when the block did not get out: the work then
+    stops at the end of the run, which is a lower bound of the loading energy, not its value
+    (no ultimate deflection to integrate to)."""
+    if "ultimate_deflection" not in res.estimates:
+        return None
+    return res.estimates["loading_energy"]
+
+
+def _no_energy(res: IndentationResult) -> dict:
+    return {
+        "note": "no loading energy: the block did not get out, so the work up to the end of "
+        "the run (work_to_end_nmm) is a lower bound of it",
+        "work_to_end_nmm": float(res.loading_energy / MM),
+    }
+
+
 def ratio(num: Estimate, den: Estimate) -> Estimate:
     """``num / den`` with the bar of the interval quotient ``[num] / [den]`` (exact, not first
     order), shared out over the sources of both in proportion to their first-order parts
     (``"numerator: <source>"``, ``"denominator: <source>"``); unbounded sources stay
-    unbounded, and the bar is unbounded when ``[den]`` holds zero."""
+    unbounded, and the bar is unbounded when ``[den]`` holds zero. The sources either part
+    omits are omitted from the quotient's bar too."""
     r = num.value / den.value
     cost = num.cost_s + den.cost_s
+    omitted = tuple(dict.fromkeys((*num.omitted, *den.omitted)))
     first = {f"numerator: {k}": w / abs(den.value) for k, w in num.sources.items()}
     first.update({f"denominator: {k}": abs(r) * w / abs(den.value)
                   for k, w in den.sources.items()})  # fmt: skip
     if not (math.isfinite(num.error) and math.isfinite(den.error)):
-        return Estimate(r, first, cost)
+        return Estimate(r, first, cost, omitted=omitted)
     if den.lo <= 0.0 <= den.hi:
-        return Estimate(r, {"denominator interval holds zero": math.inf}, cost)
+        return Estimate(r, {"denominator interval holds zero": math.inf}, cost, omitted=omitted)
     ends = [a / b for a in (num.lo, num.hi) for b in (den.lo, den.hi)]
     width = max(max(ends) - r, r - min(ends))
     total = sum(first.values())
     if total == 0.0:
-        return Estimate(r, first, cost)
-    return Estimate(r, {k: w / total * width for k, w in first.items()}, cost)
+        return Estimate(r, first, cost, omitted=omitted)
+    return Estimate(r, {k: w / total * width for k, w in first.items()}, cost, omitted=omitted)
 
 
 def mean_of_runs(estimates: list[Estimate]) -> Estimate:
     """The mean of the runs' values as an estimate of the population mean: the half-width of
     its Student t 95 % interval (``"sampling"``) plus, per source, the mean of the runs'
-    half-widths (the runs' errors move the mean by at most that much)."""
+    half-widths (the runs' errors move the mean by at most that much); the sources any run
+    omits are omitted from the mean's bar."""
     values = np.array([e.value for e in estimates])
     mean, half = mean_ci(values)
     sources = {"sampling": half}
     for name in sorted({k for e in estimates for k in e.sources}):
         sources[name] = float(np.mean([e.sources.get(name, 0.0) for e in estimates]))
+    omitted = tuple(dict.fromkeys(s for e in estimates for s in e.omitted))
     return Estimate(mean, sources, sum(e.cost_s for e in estimates),
-                    f"mean of {len(values)} runs, Student t 95 %")  # fmt: skip
+                    f"mean of {len(values)} runs, Student t 95 %", omitted)  # fmt: skip
 
 
 def _store_curves(store: dict, key: str, res: IndentationResult, scene: Scene) -> None:
@@ -317,11 +343,13 @@ def _calibration_ratio_rows(results: dict, disc: dict) -> list[Row]:
             {"k_imp_over_k_def": k_ratio,
              "rel_to_k_ratio": res.peak_load / perf.peak_load / k_ratio - 1.0},
         ))  # fmt: skip
+        energies = loading_energy(res), loading_energy(perf)
+        missing = {"note": "no loading energy in one of the runs (the block did not get out)"}
         rows.append(Row(
             f"{n}x{n} theta={theta:g}: LE_calibrated / LE_perfect",
-            ratio(res.estimates["loading_energy"], perf.estimates["loading_energy"]), ref_e,
+            None if None in energies else ratio(*energies), ref_e,
             "seed 000 1/(Table 1 x Table 2)" if ref_e else "", None, settings,
-            {"k_imp_over_k_def": k_ratio},
+            {"k_imp_over_k_def": k_ratio, **(missing if None in energies else {})},
         ))  # fmt: skip
     return rows
 
