@@ -15,18 +15,10 @@ the tangent floor: yielded and open components of the iteration matrix keep a fr
 floor grows tenfold (a stiffer, shorter step); an accepted one lowers it tenfold down to the
 law's ``tangent_floor``. The floor changes only the iteration matrix: the residual uses the
 exact law, so every converged point is an equilibrium of it.
-
-A path step's solve may be watched by :class:`Contraction` (after Deuflhard's affine-covariant
-monitor): it stops as soon as the iterates say that it will not converge (the second Newton
-correction longer than the first, or the residual stalled), rather than after the whole
-iteration budget. Stopping a solve never changes what a converged point is: every accepted
-point meets the same residual tolerance, and a watched solve that converges has taken the
-same iterations as an unwatched one.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,15 +30,6 @@ from dem.static.result import StaticSolverError
 from dem.static.settings import StaticSettings
 
 BACKTRACK = (1.0, 0.5, 0.25, 0.125, 1 / 32, 1 / 256)  # step lengths tried along a direction
-
-THETA_MAX = 1.0
-"""Contraction ``|du_1| / |du_0|`` of a step's first iteration beyond which its solve stops:
-the second Newton correction is longer than the first, so the local Newton-Kantorovich bound
-(Deuflhard 2004, Sec. 5.1) promises no convergence from this start."""
-
-STAGNATION_WINDOW = 5
-"""Iterations within which the least residual of a solve must halve, else the solve stops (at a
-kink the floor-damped iteration can stall for many iterations at one residual)."""
 
 
 def factor(A: sp.csc_matrix):
@@ -160,10 +143,7 @@ class Iterate:
 
 @dataclass(eq=False)
 class Outcome:
-    """Result of :meth:`Corrector.solve`.
-
-    ``stopped`` names why a watched solve stopped early ("" if it did not).
-    """
+    """Result of :meth:`Corrector.solve`."""
 
     converged: bool
     point: Iterate
@@ -171,41 +151,6 @@ class Outcome:
     floor: float
     singular: str = ""
     loose: bool = False
-    stopped: str = ""
-
-
-class Contraction:
-    """Watches one solve: the contraction of its first iteration, and stagnation.
-
-    ``diverging`` once the second correction is longer than ``THETA_MAX`` times the first;
-    ``stagnating`` once the least residual norm has not halved within ``STAGNATION_WINDOW``
-    iterations.
-    """
-
-    def __init__(self):
-        self.corrections: list[float] = []
-        self.least: list[float] = []
-
-    @property
-    def theta0(self) -> float:
-        c = self.corrections
-        return c[1] / c[0] if len(c) > 1 and c[0] > 0 else math.nan
-
-    def correction(self, du: np.ndarray) -> str:
-        """Record the Newton correction ``du``; why the solve should stop, or ""."""
-        self.corrections.append(float(np.linalg.norm(du)))
-        if len(self.corrections) == 2 and self.theta0 > THETA_MAX:
-            return f"first contraction {self.theta0:.3g} > {THETA_MAX}"
-        return ""
-
-    def residual(self, norm: float) -> str:
-        """Record an iterate's residual norm; why the solve should stop, or ""."""
-        least = min(norm, self.least[-1]) if self.least else norm
-        self.least.append(least)
-        k = STAGNATION_WINDOW
-        if len(self.least) > k and least > 0.5 * self.least[-1 - k]:
-            return f"residual not halved in {k} iterations"
-        return ""
 
 
 class Corrector:
@@ -276,15 +221,12 @@ class Corrector:
         con: Constraint,
         floor: float | None = None,
         max_iterations: int | None = None,
-        watch: bool = False,
     ) -> Outcome:
-        """Iterate from ``start`` (an equilibrium, or a predicted point) to ``con``; ``watch``:
-        stop once :class:`Contraction` says the solve will not converge."""
+        """Iterate from ``start`` (an equilibrium, or a predicted point) to ``con``."""
         floor = self.floor_min if floor is None else max(floor, self.floor_min)
         max_iterations = max_iterations or self.settings.max_iterations
         it = self.evaluate(start.u, start.lam, floor, con) if start.ev is None else start
-        first, best, monitor, stop = True, None, Contraction(), ""
-        n = self.model.n_free
+        first, best = True, None
         for n_iter in range(1, max_iterations + 1):
             if not first and it.norm <= self.tolerance(it.lam):
                 return Outcome(True, it, n_iter - 1, floor)
@@ -296,9 +238,6 @@ class Corrector:
                 floor = min(10.0 * floor, 1.0)
                 it = self.evaluate(it.u, it.lam, floor, con)
                 continue
-            stop = monitor.correction(sol[:n]) or ("" if first else monitor.residual(it.norm))
-            if watch and stop:
-                break
             trial = self._line_search(it, sol, floor, con, first)
             if first or trial.norm <= it.norm or floor >= 1.0:
                 it, first = trial, False
@@ -310,11 +249,10 @@ class Corrector:
             else:
                 floor = min(10.0 * floor, 1.0)
                 it = self.evaluate(it.u, it.lam, floor, con)
-        stopped = stop if watch else ""
-        if not (first or stopped) and it.norm <= self.tolerance(it.lam):
-            return Outcome(True, it, n_iter, floor)
+        if not first and it.norm <= self.tolerance(it.lam):
+            return Outcome(True, it, max_iterations, floor)
         # stalled near a kink of the law (typically the apex of a joint's cone at N -> 0):
         # accept the best iterate if its residual is below the law's looser tolerance
         if best is not None and best.norm <= self.tolerance(best.lam, loose=True):
-            return Outcome(True, best, n_iter, floor, loose=True)
-        return Outcome(False, it, n_iter, floor, stopped=stopped)
+            return Outcome(True, best, max_iterations, floor, loose=True)
+        return Outcome(False, it, max_iterations, floor)

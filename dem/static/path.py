@@ -10,13 +10,8 @@ Each live step prescribes the increment of a control ``w . u`` and solves for ``
   the first step as long as that increment and the step unit the length of the first
   increment; this follows the path through limit points and snap-backs, where halving the
   fixed control's step would leave the path creeping at a constant lambda;
-- **step size**: the increment adapts to the Newton iteration count (``target_iterations``)
-  and halves on a failed step. A step's solves are watched
-  (:class:`dem.static.newton.Contraction`): one that diverges (its second correction longer
-  than its first) or stalls stops at once instead of spending its whole budget; after
-  ``WATCHED_CUTS`` consecutive failed steps the solve from the last equilibrium is no longer
-  stopped early (at a kink a shorter step need not contract sooner);
-  the increment stays within ``max_step_factor`` first increments unless the
+- **step size**: the increment adapts to the Newton iteration count (``target_iterations``),
+  halves on a failed step, and stays within ``max_step_factor`` first increments unless the
   path is flat and approaches a limit
   (:meth:`dem.collapse_criteria.CollapseCriteria.approaching`): then
   it may keep doubling, so that the path samples its approach in a geometric progression
@@ -44,11 +39,6 @@ from dem.static.result import StaticSolverError
 from dem.static.settings import StaticSettings
 
 logger = logging.getLogger(__name__)
-
-WATCHED_CUTS = 2
-"""Consecutive failed steps after which a step's solve from the last equilibrium is no longer
-stopped early: at a kink of the law the iterates need not contract sooner on a shorter step,
-and the short steps get the whole iteration budget (the path's end depends on them)."""
 
 ROUND_OFF = 1e-12
 """Relative round-off of a residual: below it, a residual bounds lambda no better."""
@@ -176,13 +166,13 @@ class PathFollower:
                 point.u + scale * self.last_du, point.lam + scale * self.last_dlam, None, None
             )
             out = corrector.solve(
-                guess, con, self.floor, self.settings.target_iterations, watch=True
+                guess, con, self.floor, max_iterations=self.settings.target_iterations
             )
             if out.converged:
                 return out
             self.n_iterations += out.iterations
             self.n_failed_iterations += out.iterations
-        return corrector.solve(point, con, self.floor, watch=self.n_failed < WATCHED_CUTS)
+        return corrector.solve(point, con, self.floor)
 
     def _failed(self, out: Outcome) -> tuple[str, str] | None:
         """A step without equilibrium: shorter step, control switch, cascade, or the end."""
