@@ -47,7 +47,9 @@ def _number(x) -> float | None:
 
 def _row_point(row: dict) -> tuple[float, float | None, float | None] | None:
     """``(wall_s, estimated relative error, true relative error)`` of a row, None without
-    a wall time or anything to draw."""
+    a wall time or anything to draw (a cost row is itself a wall time, not a result)."""
+    if row.get("cost"):
+        return None
     wall, ours = _number(row.get("wall_s")), _number(row.get("ours"))
     if wall is None or wall <= 0 or ours is None:
         return None

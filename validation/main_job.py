@@ -64,7 +64,7 @@ class CaseSummary:
             kind = r.reference_is_model
             worst[kind] = err if worst[kind] is None else max(worst[kind], err)
         kinds = [r.error_kind for r in rows]
-        no_bar = sum(r.ours is not None and math.isinf(r.ours_error) for r in rows)
+        no_bar = sum(r.estimate is not None and math.isinf(r.ours_error) for r in rows)
         return cls(
             case,
             len(rows),

@@ -114,6 +114,12 @@ class Row:
     error_omits
         Known error sources the bar does not cover (:attr:`dem.estimate.Estimate.omitted`, set
         from an Estimate): a reference outside such a bar is a ``"partial bar"``.
+    cost
+        Whether ``ours`` is a cost of the run (a wall time [s] on this machine, a memory) rather
+        than a result: a cost has no converged value for a bar to enclose (it changes with the
+        machine and its load), so a cost row has no error bar (``ours_error`` None, no
+        ``error_sources``) and prints as ``value (cost)``; its reference is a budget
+        (``reference_kind="upper bound"``), met or not by the plain comparison.
     """
 
     quantity: str
@@ -129,6 +135,7 @@ class Row:
     reference_error: float = 0.0
     model_difference: str = ""
     error_omits: list[str] = field(default_factory=list)
+    cost: bool = False
 
     def __post_init__(self) -> None:
         if self.reference_kind not in REFERENCE_KINDS:
@@ -140,7 +147,9 @@ class Row:
             raise ValueError(
                 f"row {self.quantity!r}: reference_error must be >= 0, got {self.reference_error!r}"
             )
-        if isinstance(self.ours, Estimate):
+        if self.cost:
+            self._check_cost()
+        elif isinstance(self.ours, Estimate):
             est = self.ours
             if self.error_sources:
                 raise ValueError(f"row {self.quantity!r}: give an Estimate or error_sources")
@@ -161,10 +170,24 @@ class Row:
             else:  # validated by Estimate
                 self.error_sources = dict(Estimate(self.ours, self.error_sources).sources)
 
+    def _check_cost(self) -> None:
+        if isinstance(self.ours, Estimate) or self.error_sources or self.ours is None:
+            raise ValueError(
+                f"row {self.quantity!r}: a cost row takes a plain number, without error sources"
+            )
+        self.ours = float(self.ours)
+        if not (math.isfinite(self.ours) and self.ours >= 0.0):
+            raise ValueError(f"row {self.quantity!r}: a cost must be finite and >= 0")
+        if self.reference is not None and self.reference_kind == "value":
+            raise ValueError(
+                f"row {self.quantity!r}: a cost's reference is a budget, give reference_kind "
+                "'upper bound' (or 'lower bound')"
+            )
+
     @property
     def estimate(self) -> Estimate | None:
-        """``ours`` with its error bar, or None."""
-        if self.ours is None:
+        """``ours`` with its error bar, or None (no ``ours``, or a :attr:`cost`)."""
+        if self.ours is None or self.cost:
             return None
         return Estimate(self.ours, self.error_sources, notes=self.error_notes,
                         omitted=tuple(self.error_omits))  # fmt: skip
@@ -189,7 +212,12 @@ class Row:
         """Whether ours agrees with the reference within the bars: for a value, whether it lies
         in ``ours ± ours_error``; for an upper (lower) bound, whether ``ours - ours_error`` is
         at most (``ours + ours_error`` at least) the bound widened by ``reference_error``.
-        None: nothing to compare, or either error is unknown, so the bars say nothing."""
+        None: nothing to compare, or either error is unknown, so the bars say nothing. A
+        :attr:`cost` is compared with its budget as it is (it has no bar)."""
+        if self.cost and self.reference is not None:
+            if self.reference_kind == "upper bound":
+                return self.ours <= self.reference
+            return self.ours >= self.reference
         est = self.estimate
         if est is None or self.reference is None or not math.isfinite(est.error):
             return None
@@ -217,9 +245,12 @@ class Row:
         differs, which no refinement removes), ``"numerical"`` when it is a value of our own
         model (our bar is too small, or a method is wrong; for a bound, the bound is broken);
         ``"partial bar"`` when our bar omits known sources (:attr:`error_omits`), so it does
-        not claim to hold the converged answer; None when they agree or nothing is compared."""
+        not claim to hold the converged answer; ``"over budget"`` for a :attr:`cost` that misses
+        its budget; None when they agree or nothing is compared."""
         if self.reference_inside is not False:
             return None
+        if self.cost:
+            return "over budget"
         if self.reference_is_model:
             return "model"
         return "partial bar" if self.error_omits else "numerical"
@@ -237,6 +268,8 @@ class Row:
 
     def ours_text(self) -> str:
         """``value ± error`` rounded to the digits the error supports (``-`` without ours)."""
+        if self.cost:
+            return f"{self.ours:.3g} (cost)"
         est = self.estimate
         return "-" if est is None else est.format()
 
@@ -419,7 +452,9 @@ ERROR_LEGEND = (
     "`(without ...)` omits the sources it names (the error budget did not pay for them): a "
     "reference outside it is a `partial bar`, not a numerical error. A reference "
     "that is a bound is an inequality: `below the bound` / `above the bound` says on which side "
-    "of it ours lies within both bars (`yes` on the side it must, `no` on the wrong one)."
+    "of it ours lies within both bars (`yes` on the side it must, `no` on the wrong one). A "
+    "`(cost)` is what the run spent (a wall time on a shared machine), not a result: it has no "
+    "bar, and its reference is a budget it meets or not (`over budget`)."
 )
 
 

@@ -61,6 +61,8 @@ def test_per_unit_scales_every_source_and_marks_a_missing_bar():
     assert est.value == 2.0 and est.sources == {"gap": 0.01, "polygon": 0.004}
     bare = per_unit(None, 1000.0, 2000.0)
     assert bare.value == 2.0 and math.isinf(bare.error)
+    partial = per_unit(Estimate(2000.0, {"rate": 10.0}, omitted=("time step",)), 1000.0)
+    assert partial.omitted == ("time step",) and not partial.complete
 
 
 def test_a_discrepancy_has_no_bar_of_its_own():

@@ -213,6 +213,39 @@ def test_a_bound_reference_is_an_inequality():
     assert _inside_cell(lower) == "no (numerical): below the bound"
     with pytest.raises(ValueError, match="reference_kind"):
         Row("x", 1.0, 1.0, reference_kind="bound")
+
+
+def test_a_cost_row_has_no_bar_and_meets_its_budget_or_not(tmp_path):
+    """A wall time is a cost, not a result with a converged value: no error bar (neither a
+    finite one nor ``± ?``), printed as a cost, and compared with its budget as it is."""
+    from dem.estimate import Estimate
+    from validation.main_job import CaseSummary
+    from validation.report import _inside_cell
+
+    def cost(seconds, budget=60.0):
+        return Row("wall time [s]", seconds, budget, "target", reference_kind="upper bound",
+                   cost=True)  # fmt: skip
+
+    fast, slow = cost(12.0), cost(75.0)
+    assert fast.ours_error is None and fast.error_sources == {} and fast.estimate is None
+    assert (fast.reference_inside, fast.error_kind) == (True, None)
+    assert (slow.reference_inside, slow.error_kind) == (False, "over budget")
+    assert _inside_cell(slow) == "no (over budget): above the bound"
+    assert fast.ours_text() == "12 (cost)"
+    assert CaseSummary.of("fake", [fast, Row("x [-]", 1.0)], 0.0).no_bar == 1
+    write_results("fake", [slow], quick=True, wall_s=0.0, out_dir=tmp_path)
+    data = json.loads((tmp_path / "fake.json").read_text())["rows"][0]
+    assert data["cost"] is True and data["ours_error"] is None and data["error_sources"] == {}
+    bad_rows = (
+        dict(ours=Estimate(1.0, {"x": 0.1})),
+        dict(ours=-1.0),
+        dict(ours=None),
+        dict(ours=1.0, reference=60.0),
+        dict(ours=1.0, error_sources={"x": 0.1}),
+    )
+    for bad in bad_rows:
+        with pytest.raises(ValueError, match="cost"):
+            Row("t [s]", cost=True, **bad)
     with pytest.raises(ValueError, match="reference_error"):
         Row("x", 1.0, 1.0, reference_error=-1.0)
 

@@ -39,3 +39,15 @@ def test_mean_of_runs():
     assert m.value == 10.0
     np.testing.assert_allclose(m.sources["sampling"], 4.302652729911275 / np.sqrt(3), rtol=1e-9)
     np.testing.assert_allclose(m.sources["rate"], 0.2)
+
+
+def test_ratio_and_mean_keep_what_their_parts_omit():
+    """A bar that omits the time step and node spacing (the 'cheap' budget) does not become
+    complete by dividing or averaging: the quotient and the mean omit them too."""
+    from validation.cases.tis import mean_of_runs
+
+    cheap = Estimate(10.0, {"rate": 1.0}, omitted=("time step", "node spacing"))
+    full = Estimate(5.0, {"rate": 0.5})
+    for q in (ratio(cheap, full), ratio(full, cheap), mean_of_runs([cheap, full])):
+        assert q.omitted == ("time step", "node spacing") and not q.complete
+    assert ratio(full, full).omitted == ()

@@ -112,11 +112,13 @@ def diagnostic(value: float) -> Estimate:
 
 
 def per_unit(estimate: Estimate | None, unit: float, value: float | None = None) -> Estimate:
-    """``estimate`` in a table's unit (every half-width divided by ``unit`` too); without an
-    estimate, ``value / unit`` with an unknown bar."""
+    """``estimate`` in a table's unit (every half-width divided by ``unit`` too, the omitted
+    sources kept); without an estimate, ``value / unit`` with an unknown bar."""
     if estimate is None:
         if value is None:
             raise ValueError("per_unit needs an estimate or a value")
         return Estimate.unknown(value / unit, "the method gives no error bar for this value")
     sources = {k: w / abs(unit) for k, w in estimate.sources.items()}
-    return Estimate(estimate.value / unit, sources, estimate.cost_s, estimate.notes)
+    return Estimate(
+        estimate.value / unit, sources, estimate.cost_s, estimate.notes, estimate.omitted
+    )

@@ -8,7 +8,8 @@ seed 001 Eq. 14, alpha = 1.5):
 - ``upper``: the associated solution, a proven upper bound for zero-dilatancy friction;
 - ``estimate (a)``: associated problem with mu* = mu / sqrt(1 + mu^2) (not a bound);
 - ``estimate (b)``: fixed-capacity iteration after Gilbert et al. 2006 (not a bound; history,
-  convergence and admissibility in the row);
+  convergence and admissibility in the row); where its steps do not shrink there is no fixed
+  point to bound, and the row is a value-less diagnostic (:func:`_has_fixed_point`);
 - ``lower``: the frictionless problem (Radenkovic's second theorem), usually 0 for walls.
 """
 
@@ -154,7 +155,7 @@ def _bounds_summary(b) -> dict:
     return {
         "upper": b.upper,
         "reduced_mu": b.reduced_mu,
-        "iterative": None if b.iterative is None else b.iterative.lam,
+        "iterative": b.iterative.lam if _has_fixed_point(b.iterative) else None,
         "iterative_converged": None if b.iterative is None else b.iterative.converged,
         "lower": b.lower,
         "status": b.associated.status,
@@ -183,12 +184,31 @@ def _failure_rows(quantity, exc, reference, source, wall, settings, extra):
     return [row], {"upper": math.inf if kind == "unbounded" else None, "status": kind}
 
 
+def _has_fixed_point(it) -> bool:
+    """Whether estimate (b) has a value to report: an iterate whose distance to the fixed point
+    is bounded (converged, or steps that shrink: a finite ``"iteration"`` tail). Steps that do
+    not shrink leave no fixed point to bound (the iteration may cycle: the normal forces of a
+    programme are not unique, :mod:`limit.estimates`), so the last iterate is no estimate."""
+    if it is None or it.lam is None:
+        return False
+    return it.converged or math.isfinite(it.estimate.sources.get("iteration", math.inf))
+
+
 def _iterative_row(quantity, b, reference, source, settings, max_updates, unit, extra) -> Row:
-    """Estimate (b): the fixed-capacity iteration, with its history and admissibility."""
+    """Estimate (b): the fixed-capacity iteration, with its history and admissibility; a
+    value-less diagnostic, with the last iterate beside it, where it has no fixed point
+    (:func:`_has_fixed_point`)."""
     it = b.iterative
+    fixed_point = _has_fixed_point(it)
+    note = it.note
+    if it.lam is not None and not fixed_point:
+        note = (
+            f"no estimate (b): no fixed point in {it.n_iter} updates (the last steps of lambda "
+            f"do not shrink), so no value and no bar; the last iterate was {it.lam / unit:.6g}"
+        )
     return Row(
         quantity,
-        None if it.lam is None else per_unit(it.estimate, unit, it.lam),
+        per_unit(it.estimate, unit, it.lam) if fixed_point else None,
         reference,
         source,
         it.wall_s,
@@ -201,7 +221,7 @@ def _iterative_row(quantity, b, reference, source, settings, max_updates, unit, 
             "n_iter": it.n_iter,
             "history": [h / unit for h in it.history],
             "failure": it.failure,
-            "note": it.note,
+            "note": note,
             "issues": "; ".join(b.issues),
         },
     )

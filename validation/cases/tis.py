@@ -188,35 +188,39 @@ def ratio(num: Estimate, den: Estimate) -> Estimate:
     """``num / den`` with the bar of the interval quotient ``[num] / [den]`` (exact, not first
     order), shared out over the sources of both in proportion to their first-order parts
     (``"numerator: <source>"``, ``"denominator: <source>"``); unbounded sources stay
-    unbounded, and the bar is unbounded when ``[den]`` holds zero."""
+    unbounded, and the bar is unbounded when ``[den]`` holds zero. The sources either part
+    omits are omitted from the quotient's bar too."""
     r = num.value / den.value
     cost = num.cost_s + den.cost_s
+    omitted = tuple(dict.fromkeys((*num.omitted, *den.omitted)))
     first = {f"numerator: {k}": w / abs(den.value) for k, w in num.sources.items()}
     first.update({f"denominator: {k}": abs(r) * w / abs(den.value)
                   for k, w in den.sources.items()})  # fmt: skip
     if not (math.isfinite(num.error) and math.isfinite(den.error)):
-        return Estimate(r, first, cost)
+        return Estimate(r, first, cost, omitted=omitted)
     if den.lo <= 0.0 <= den.hi:
-        return Estimate(r, {"denominator interval holds zero": math.inf}, cost)
+        return Estimate(r, {"denominator interval holds zero": math.inf}, cost, omitted=omitted)
     ends = [a / b for a in (num.lo, num.hi) for b in (den.lo, den.hi)]
     width = max(max(ends) - r, r - min(ends))
     total = sum(first.values())
     if total == 0.0:
-        return Estimate(r, first, cost)
-    return Estimate(r, {k: w / total * width for k, w in first.items()}, cost)
+        return Estimate(r, first, cost, omitted=omitted)
+    return Estimate(r, {k: w / total * width for k, w in first.items()}, cost, omitted=omitted)
 
 
 def mean_of_runs(estimates: list[Estimate]) -> Estimate:
     """The mean of the runs' values as an estimate of the population mean: the half-width of
     its Student t 95 % interval (``"sampling"``) plus, per source, the mean of the runs'
-    half-widths (the runs' errors move the mean by at most that much)."""
+    half-widths (the runs' errors move the mean by at most that much); the sources any run
+    omits are omitted from the mean's bar."""
     values = np.array([e.value for e in estimates])
     mean, half = mean_ci(values)
     sources = {"sampling": half}
     for name in sorted({k for e in estimates for k in e.sources}):
         sources[name] = float(np.mean([e.sources.get(name, 0.0) for e in estimates]))
+    omitted = tuple(dict.fromkeys(s for e in estimates for s in e.omitted))
     return Estimate(mean, sources, sum(e.cost_s for e in estimates),
-                    f"mean of {len(values)} runs, Student t 95 %")  # fmt: skip
+                    f"mean of {len(values)} runs, Student t 95 %", omitted)  # fmt: skip
 
 
 def _store_curves(store: dict, key: str, res: IndentationResult, scene: Scene) -> None:

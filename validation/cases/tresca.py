@@ -97,17 +97,23 @@ def _certificate_rows(tag: str, packing, res, settings: dict) -> list[Row]:
     ]
 
 
-def _stress_estimate(value: float, bar: np.ndarray | None, unit: float = 1.0, high=None):
+def _stress_estimate(value: float, bar: np.ndarray | None, unit: float = 1.0, span=None):
     """``value`` [unit] of a max over absolute edge stresses whose bars are ``bar`` [Pa] (a max
-    moves by at most the largest bar). A solver's own dual has no bar but may have ``high``
-    [unit], the largest value the admissible set allows: the model then gives ``[0, high]``
+    moves by at most the largest bar). A solver's own dual has no bar but may have ``span``
+    ``(low, high)`` [unit], the least and largest values the admissible set allows
     (:func:`validation.cases.tresca_bars.range_bar`); without either, the bare value."""
     if bar is not None:
         return Estimate(value, {"solver tolerance": float(np.max(bar)) / unit})
-    if high is not None:
-        notes = "the LP's admissible forces are not unique: the model gives [0, high]"
-        return Estimate(value, tb.range_bar(value, 0.0, high), notes=notes)
-    return value
+    return _span_estimate(value, span)
+
+
+def _span_estimate(value: float, span):
+    """``value`` with the bar that holds ``span = (low, high)``, the values the admissible
+    forces allow; the bare value without a span."""
+    if span is None:
+        return value
+    notes = "the LP's admissible forces are not unique: the model gives [low, high]"
+    return Estimate(value, tb.range_bar(value, *span), notes=notes)
 
 
 def _bed_joint_rows(packing, res, settings: dict) -> list[Row]:
@@ -183,7 +189,7 @@ def _verification_mesh_rows(name: str) -> list[Row]:
     packing = verification_packing(name)
     traction = uniform_stress_traction(packing, -PRESSURE * np.eye(2))
     normal = tb.admissible_range(packing, traction, S_VERIF, "normal")
-    high = None if normal is None else float(np.max(np.abs(normal + PRESSURE)))
+    span = None if normal is None else (0.0, float(np.max(np.abs(normal + PRESSURE))))
     rows: list[Row] = []
     for solver, selection in _VARIANTS:
         _, res = _solve(packing, -PRESSURE * np.eye(2), S_VERIF, solver, selection)
@@ -206,7 +212,7 @@ def _verification_mesh_rows(name: str) -> list[Row]:
             Row(
                 f"{tag}: max_e |sigma_nn + p| [Pa]",
                 _stress_estimate(
-                    float(np.max(np.abs(res.normal_stress + PRESSURE))), bar, high=high
+                    float(np.max(np.abs(res.normal_stress + PRESSURE))), bar, span=span
                 ),
                 0.0,
                 "closed form (seed 003 Sec. 4.3)",
@@ -222,7 +228,7 @@ def _brick_wall_rows(wall) -> list[Row]:
     """Seed 003 Sec. 4.4: the brick wall under shear; bed joints balance the wall above."""
     rows: list[Row] = []
     shear = tb.admissible_range(wall, uniform_stress_traction(wall, _wall_sigma()), S_WALL, "shear")
-    high = None if shear is None else float(np.max(np.abs(shear))) / S_WALL
+    span = None if shear is None else (0.0, float(np.max(np.abs(shear))) / S_WALL)
     for solver, selection in _VARIANTS[::2]:
         _, res = _solve(wall, _wall_sigma(), S_WALL, solver, selection)
         st = _settings(solver, selection, s_pa=S_WALL, tau_pa=TAU_WALL, **WALL)
@@ -233,7 +239,7 @@ def _brick_wall_rows(wall) -> list[Row]:
             Row(
                 f"brick wall [{solver}/{selection}]: max |shear| / s [-]",
                 _stress_estimate(
-                    float(np.max(np.abs(res.shear_stress))) / S_WALL, bar, S_WALL, high
+                    float(np.max(np.abs(res.shear_stress))) / S_WALL, bar, S_WALL, span
                 ),
                 None,
                 "bounded by 1 (Tresca)",
@@ -306,6 +312,7 @@ def _homogeneous_rows(hom) -> list[Row]:
             st0,
         ),
     ]
+    spans = _hom_spans(hom, traction)
     for solver, selection in _VARIANTS:
         _, res = _solve(hom, sigma_c, S_VERIF, solver, selection)
         st = _settings(solver, selection, **st0)
@@ -313,10 +320,13 @@ def _homogeneous_rows(hom) -> list[Row]:
         homog = selection == "min_energy"
         bar = tb.stress_bar(hom, res, tb.solve_settings(solver, selection))
         threshold = 1e-9 * PRESSURE * hom.edge_length
+        dev, peak, count = spans
         rows += [
             Row(
                 f"{tag}: max_e |sigma_nn + p| [Pa]",
-                _stress_estimate(float(np.max(np.abs(res.normal_stress + PRESSURE))), bar),
+                _stress_estimate(
+                    float(np.max(np.abs(res.normal_stress + PRESSURE))), bar, 1.0, dev
+                ),
                 0.0 if homog else None,
                 SRC_CLOSED if homog else "seed 003 Sec. 4.5: not homogeneous",
                 res.wall_s,
@@ -324,7 +334,7 @@ def _homogeneous_rows(hom) -> list[Row]:
             ),
             Row(
                 f"{tag}: max_e |sigma_nn| / p [-]",
-                _stress_estimate(float(np.max(-res.normal_stress)) / PRESSURE, bar, PRESSURE),
+                _stress_estimate(float(np.max(-res.normal_stress)) / PRESSURE, bar, PRESSURE, peak),
                 1.0 if homog else None,
                 SRC_CLOSED if homog else "seed 003 Sec. 4.5: exceeds 1 (concentration)",
                 res.wall_s,
@@ -332,7 +342,7 @@ def _homogeneous_rows(hom) -> list[Row]:
             ),
             Row(
                 f"{tag}: open contacts (lambda < 1e-9 p|e|) [-]",
-                _count_estimate(res.normal_force, threshold, bar, hom.edge_length),
+                _count_estimate(res.normal_force, threshold, bar, hom.edge_length, count),
                 None,
                 "",
                 res.wall_s,
@@ -343,13 +353,33 @@ def _homogeneous_rows(hom) -> list[Row]:
     return rows
 
 
-def _count_estimate(forces, threshold, bar, edge_length):
+def _count_estimate(forces, threshold, bar, edge_length, span=None):
     """The number of ``forces < threshold`` [N/m], with the number whose bar (stress ``bar``
-    [Pa] times ``edge_length`` [m]) straddles the threshold as its half-width."""
+    [Pa] times ``edge_length`` [m]) straddles the threshold as its half-width; without a bar,
+    the bar that holds ``span`` (the counts the admissible forces allow), if given."""
     count = float(np.sum(forces < threshold))
     if bar is None:
-        return count
+        return _span_estimate(count, span)
     return Estimate(count, {"solver tolerance": tb.count_bar(forces, threshold, bar * edge_length)})
+
+
+def _hom_spans(hom, traction):
+    """What the admissible forces of the 60-cell packing allow (seed 003 Remark 4), from each
+    edge's normal-stress range (:func:`validation.cases.tresca_bars.admissible_range`):
+    ``(low, high)`` of max_e |sigma_nn + p| [Pa], of max_e |sigma_nn| / p [-] (the max over
+    edges lies between the largest of their least values and the largest of their largest),
+    and of the number of open contacts (between the edges that cannot close and those that
+    can open). None each above the range's size limit."""
+    normal = tb.admissible_range(hom, traction, S_VERIF, "normal")
+    if normal is None:
+        return None, None, None
+    lam = -normal[::-1] * hom.edge_length  # least and largest lambda [N/m], shape (2, n_e)
+    threshold = 1e-9 * PRESSURE * hom.edge_length
+    return (
+        (0.0, float(np.max(np.abs(normal + PRESSURE)))),
+        (float(np.max(-normal[1])) / PRESSURE, float(np.max(-normal[0])) / PRESSURE),
+        (float(np.sum(lam[1] < threshold)), float(np.sum(lam[0] < threshold))),
+    )
 
 
 def _large_packing_rows(n_cells: int) -> list[Row]:
@@ -500,9 +530,10 @@ RECONSTRUCTION_NOTES = (
 )
 
 
-def _rt_rows(tag: str, scene: TrescaScene, case: RtCase, traction, res, st: dict):
+def _rt_rows(tag: str, scene: TrescaScene, case: RtCase, traction, res, st: dict, ranges):
     """Checks of the RT0 stress reconstructed from one force set: rows and the fields
-    stored for the figures."""
+    stored for the figures. ``ranges`` are the scene's admissible ``(normal, shear)`` stress
+    ranges (:func:`_admissible_ranges`), which bound a solver's own dual."""
     packing = scene.packing
     ft = facet_tractions(packing, res, traction)
     rec = reconstruct_stress(packing.cell_ptr, packing.cell_xy, packing.centres, ft)
@@ -515,9 +546,18 @@ def _rt_rows(tag: str, scene: TrescaScene, case: RtCase, traction, res, st: dict
         return None, _PAPER.get(name, "") if name in case.paper else ""
 
     widths = tb.stress_bar(packing, res, tb.solve_settings(res.solver, res.selection))
+    source = "round-off and force bars"
+    if widths is None and ranges is not None:
+        widths, source = tb.dual_widths(res, *ranges), "round-off and admissible range"
     bars = _RtCheckBars(packing, rec, scale, widths)
     rows = [
-        Row(f"{tag}: {quantity}", _checked(value, reference[0], bar), *reference, rec.wall_s, st)
+        Row(
+            f"{tag}: {quantity}",
+            _checked(value, reference[0], bar, source),
+            *reference,
+            rec.wall_s,
+            st,
+        )
         for quantity, value, reference, bar in _rt_checks(packing, rec, scale, ref, bars)
     ]
     if exact:
@@ -525,7 +565,7 @@ def _rt_rows(tag: str, scene: TrescaScene, case: RtCase, traction, res, st: dict
         rows.append(
             Row(
                 f"{tag}: max |sigma - sigma_exact| over all vertices [Pa]",
-                _checked(float(err.max()), 0.0, bars.of("vertex")),
+                _checked(float(err.max()), 0.0, bars.of("vertex"), source),
                 0.0,
                 case.exact_source,
                 rec.wall_s,
@@ -552,8 +592,9 @@ class _RtCheckBars:
     """The bar of each check of an RT0 reconstruction, in the check's unit: round-off
     (:func:`validation.cases.tresca_bars.rt_round_off`) for the checks that vanish for any
     forces; for the others, the round-off plus what the force bars ``widths`` [Pa] move them
-    by (:func:`validation.cases.tresca_bars.rt_bars`), or None without force bars (a solver's
-    own dual, :mod:`validation.cases.tresca_bars`)."""
+    by (:func:`validation.cases.tresca_bars.rt_bars`): the min-energy forces' certified bars,
+    or for a solver's own dual the widths of the admissible ranges around it
+    (:func:`validation.cases.tresca_bars.dual_widths`); None without widths."""
 
     def __init__(self, packing, rec, scale: float, widths: np.ndarray | None):
         self.round_off = tb.rt_round_off(rec)
@@ -597,11 +638,11 @@ class _RtCheckBars:
         return None if self.sens is None else self.sens.cell_stress + self.round_off
 
 
-def _checked(value: float, reference: float | None, bar: float | None):
-    """A check with its ``bar`` (:class:`_RtCheckBars`); without one, against 0 a discrepancy
-    with no bar of its own, else the bare value."""
+def _checked(value: float, reference: float | None, bar: float | None, source: str):
+    """A check with its ``bar`` (:class:`_RtCheckBars`) named ``source``; without one, against
+    0 a discrepancy with no bar of its own, else the bare value."""
     if bar is not None:
-        return residual(value, bar, "round-off and force bars")
+        return residual(value, bar, source)
     return diagnostic(value) if reference == 0.0 else value
 
 
@@ -694,12 +735,16 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
     rows: list[Row] = []
     npz: dict[str, np.ndarray] = {}
     scenes = tresca_scenes()
+    ranges: dict[str, tuple | None] = {}
     for case in RT_CASES:
         scene = scenes[case.scene]
         traction, res = _solve(scene.packing, scene.sigma_bc, scene.s, case.solver, case.selection)
         st = _settings(case.solver, case.selection, s_pa=scene.s, **scene.settings)
         tag = f"{scene.label} [{case.solver}/{case.selection}]"
-        new_rows, fields, bars = _rt_rows(tag, scene, case, traction, res, st)
+        if case.selection == "solver" and case.scene not in ranges:
+            ranges[case.scene] = _admissible_ranges(scene, traction)
+        scene_ranges = ranges.get(case.scene)
+        new_rows, fields, bars = _rt_rows(tag, scene, case, traction, res, st, scene_ranges)
         rows += new_rows
         npz.update({f"{case.key}__{name}": np.asarray(v) for name, v in fields.items()})
         if case.cell_rows:
@@ -711,6 +756,15 @@ def run_reconstruction(quick: bool) -> tuple[list[Row], str]:
     fields_path.parent.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(fields_path, **npz)
     return rows, RECONSTRUCTION_NOTES
+
+
+def _admissible_ranges(scene: TrescaScene, traction) -> tuple | None:
+    """The admissible ``(normal, shear)`` stress ranges [Pa] of ``scene``'s edges, each shape
+    (2, n_edges) (:func:`validation.cases.tresca_bars.admissible_range`), or None above its
+    size limit."""
+    normal = tb.admissible_range(scene.packing, traction, scene.s, "normal")
+    shear = tb.admissible_range(scene.packing, traction, scene.s, "shear")
+    return None if normal is None or shear is None else (normal, shear)
 
 
 def _cell_stress_rows(name: str, cell_stress: np.ndarray, cell_bars) -> list[Row]:
@@ -745,6 +799,7 @@ def _rt_timing_row(n_cells: int) -> Row:
         "",
         rec.wall_s,
         {"n_cells": n_cells, "n_triangles": len(rec.tri_area)},
+        cost=True,
     )
 
 

@@ -19,8 +19,10 @@ did itself.
 The forces that ``selection="solver"`` returns are one of many admissible sets (seed 003
 Remark 4): their stresses are the solver's choice, not a converged answer
 (:func:`stress_bar` returns None). What the model does fix is the range of each stress over
-every admissible set (:func:`admissible_range`, two LPs per edge, small packings only): a
-solver's value gets the bar that holds that whole range (:func:`range_bar`).
+every admissible set (:func:`admissible_range`, two LPs per edge and component): a solver's
+value gets the bar that holds that whole range (:func:`range_bar`), and a quantity linear in
+the stresses (the RT0 reconstruction) the bar of the box the ranges span
+(:func:`dual_widths`, then :func:`rt_bars`).
 """
 
 from __future__ import annotations
@@ -165,9 +167,10 @@ def rt_bars(packing, stress_widths: np.ndarray) -> RtBars:
     return RtBars(*acc)
 
 
-RANGE_MAX_EDGES = 100
-"""Largest packing [internal edges] whose solver-dual rows get the admissible range: two LPs
-per edge (the 60-cell packing's 153 edges would cost more than the rest of the case)."""
+RANGE_MAX_EDGES = 400
+"""Largest packing [internal edges] whose solver-dual rows get the admissible range: two
+small LPs per edge and component, each growing with the packing (the 60-cell packing's 153
+edges take a few seconds for both components)."""
 
 
 def admissible_range(packing, traction, s: float, component: str) -> np.ndarray | None:
@@ -200,6 +203,18 @@ def admissible_range(packing, traction, s: float, component: str) -> np.ndarray 
                 raise RuntimeError(f"admissible range of edge {e}: {res.message}")
             out[k, e] = direction * res.fun
     return out
+
+
+def dual_widths(res: TrescaResult, normal: np.ndarray, shear: np.ndarray) -> np.ndarray:
+    """Half-width [Pa] of each internal edge's stress around a solver's own dual ``res``,
+    shape (n_edges,): the larger distance from its normal and its shear stress to the ends of
+    their admissible ranges ``normal`` and ``shear`` (:func:`admissible_range`, shape
+    (2, n_edges)). Every admissible force set lies in the box these widths span around
+    ``res`` (a box holds the polytope, so the bar is valid, if loose), and so
+    :func:`rt_bars` of them bounds how far any admissible set moves a reconstruction."""
+    dn = np.maximum(res.normal_stress - normal[0], normal[1] - res.normal_stress)
+    ds = np.maximum(res.shear_stress - shear[0], shear[1] - res.shear_stress)
+    return np.maximum(np.maximum(dn, ds), 0.0)
 
 
 def range_bar(value: float, low: float, high: float) -> dict[str, float]:
