@@ -35,6 +35,14 @@ run, ``"full"`` the refinements the method needs for a bar it can defend."""
 ERROR_BUDGETS: tuple[str, ...] = ("none", "cheap", "full")
 
 
+HALVED_RERUN_FACTOR = 2.0
+"""Factor on the change ``|s_x - s_{x/2}|`` between a run at parameter ``x`` (load rate, time
+step, node spacing) and its rerun at ``x / 2`` that bounds the error of the run itself: with
+an error ``~ x^p`` and ``p >= 1``, the run's error is ``|s_x - s_{x/2}| 2^p / (2^p - 1) <= 2
+|s_x - s_{x/2}|``. The number reported is the run's (the rerun only measures the change), so
+the factor is the coarser level's, not the finer one's (``1 / (2^p - 1) <= 1``)."""
+
+
 def check_error_budget(budget: str) -> str:
     """Return ``budget`` if it is one of :data:`ERROR_BUDGETS`, else raise ``ValueError``."""
     if budget not in ERROR_BUDGETS:

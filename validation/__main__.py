@@ -19,7 +19,7 @@ from validation.crosscheck.cli import add_arguments as add_crosscheck_arguments
 from validation.crosscheck.cli import join_signed_values
 from validation.crosscheck.cli import run as run_crosscheck
 from validation.main_job import run_all
-from validation.manifest import check_manifest, write_manifest
+from validation.manifest import check_manifest, previous_wall_times, write_manifest
 from validation.provenance import git_commit, git_dirty
 from validation.report import results_dir
 
@@ -166,7 +166,10 @@ def _run_on_cluster(names: list[str], args) -> int:
     from validation.sweep.executors import SCHEDULER_ENV
 
     failed = []
-    cases = run_cases_on_cluster(names, args.quick, args.workers, args.scheduler)
+    expected = previous_wall_times(results_dir(args.quick))
+    cases = run_cases_on_cluster(
+        names, args.quick, args.workers, args.scheduler, expected_s=expected
+    )
     scheduler = args.scheduler or os.environ.get(SCHEDULER_ENV)
     where = f"the scheduler {scheduler}" if scheduler else f"{args.workers} local workers"
     try:

@@ -10,9 +10,10 @@ workers share.
 
 from __future__ import annotations
 
+import math
 import time
 import uuid
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 
 from validation.catalogue import run_case as run_catalogued_case
@@ -39,6 +40,7 @@ def run_cases_on_cluster(
     workers: int | None = None,
     scheduler: str | None = None,
     out_dir: str | Path | None = None,
+    expected_s: Mapping[str, float] | None = None,
 ) -> Iterator[tuple[str, float | None, BaseException | None]]:
     """Run cases as dask tasks; yield ``(name, wall_s or None, error or None)`` in completion
     order.
@@ -52,6 +54,10 @@ def run_cases_on_cluster(
         See :func:`validation.sweep.executors.open_executor`; ``workers=0`` runs serially here.
     out_dir : path, optional
         Results directory (default: :func:`validation.report.results_dir` of ``quick``).
+    expected_s : mapping, optional
+        Case -> expected wall time [s]. The cases start longest first (a case of unknown cost
+        first of all): with fewer workers than cases, the run then ends soonest after its
+        longest case (longest-processing-time order).
     """
     with open_executor(workers, scheduler) as ex:
         if not isinstance(ex, DaskExecutor):
@@ -66,7 +72,13 @@ def run_cases_on_cluster(
         token = uuid.uuid4().hex[:8]  # keys stay unique on a shared cluster
         futures = {
             ex.client.submit(
-                run_case_task, name, quick, out_dir, pure=False, key=f"case-{token}-{name}"
+                run_case_task,
+                name,
+                quick,
+                out_dir,
+                pure=False,
+                key=f"case-{token}-{name}",
+                priority=_priority(name, expected_s or {}),
             ): name
             for name in names
         }
@@ -77,3 +89,10 @@ def run_cases_on_cluster(
             except Exception as exc:  # report every case, fail at the end
                 yield name, None, exc
             future.release()
+
+
+def _priority(name: str, expected_s: Mapping[str, float]) -> int:
+    """Dask priority of a case (higher starts first): its expected wall time in whole seconds,
+    the largest for a case of unknown cost."""
+    wall = expected_s.get(name, math.inf)
+    return 2**31 - 1 if not math.isfinite(wall) else int(wall)

@@ -85,6 +85,16 @@ def write_manifest(directory: Path, commit: str | None = None) -> Path:
     return path
 
 
+def previous_wall_times(directory: Path) -> dict[str, float]:
+    """Case -> wall time [s] of its last run as the manifest of ``directory`` lists it (empty
+    without a manifest): the expected cost of each case, to start the longest first."""
+    path = Path(directory) / MANIFEST
+    if not path.exists():
+        return {}
+    cases = json.loads(path.read_text()).get("cases", {})
+    return {c: float(e["wall_s"]) for c, e in cases.items() if e.get("wall_s") is not None}
+
+
 def check_manifest(directory: Path, expected: Iterable[str] = (), full: bool = True) -> list[str]:
     """What is not from the manifest's commit: one line per problem, empty when none.
 

@@ -9,9 +9,11 @@ are reported:
 - at the material stiffness, :func:`bracket_estimate`: the middle of
   ``(lambda_stable - detection, lambda_moving]`` with that half-width (sources "load step" and
   "detection"), plus the sources the error budget measures by a second run
-  (:func:`rerun_source`): "loading rate", the change of that middle when the same driver
-  ramps at half the rate (a quasi-static answer does not move); "time step" (half the time
-  step) and "node spacing" (half the spacing);
+  (:func:`rerun_source`): "loading rate", twice the change of that middle when the same
+  driver ramps at half the rate (a quasi-static answer does not move); "time step" (half the
+  time step) and "node spacing" (half the spacing), each twice its change
+  (:data:`dem.estimate.HALVED_RERUN_FACTOR`: the bound of the run's own error for an order of
+  at least 1, the rule the indentation's reruns follow too);
 - the rigid limit, :func:`rigid_limit`: the driver run again at ``k_n`` times ``ratio``,
   ``ratio^2``, ... (each run starts its ramp just below the softer run's multiplier, which the
   stiffer structure exceeds, and scales its inertial masses by up to ``max_mass_scaling``: the
@@ -31,7 +33,7 @@ import math
 import time
 from dataclasses import dataclass, replace
 
-from dem.estimate import Estimate, richardson
+from dem.estimate import HALVED_RERUN_FACTOR, Estimate, richardson
 
 logger = logging.getLogger(__name__)
 
@@ -115,9 +117,10 @@ BUDGET_SOURCES = {"none": (), "cheap": ("loading rate",),
 
 
 def rerun_source(run, settings, driver, result, name: str) -> tuple[float, float]:
-    """Half-width [-] of source ``name`` of :data:`SOURCES` and its cost [s]: the change of
-    the bracket's middle when the run is repeated with that change (warm start one step below
-    ``lambda_stable``); ``run(settings, driver) -> LateralResult`` runs the driver."""
+    """Half-width [-] of source ``name`` of :data:`SOURCES` and its cost [s]:
+    :data:`~dem.estimate.HALVED_RERUN_FACTOR` times the change of the bracket's middle when
+    the run is repeated with that change (warm start one step below ``lambda_stable``);
+    ``run(settings, driver) -> LateralResult`` runs the driver."""
     wall0 = time.perf_counter()
     settings_fields, driver_fields = SOURCES[name]
     changed = replace(settings, **{k: getattr(settings, k) * f for k, f in settings_fields.items()})
@@ -130,7 +133,7 @@ def rerun_source(run, settings, driver, result, name: str) -> tuple[float, float
         logger.warning("with the %s changed no collapse was found below %.4g: that source is "
                        "unbounded", name, driver.max_lambda)  # fmt: skip
         return math.inf, time.perf_counter() - wall0
-    return abs(moved.value - base.value), time.perf_counter() - wall0
+    return HALVED_RERUN_FACTOR * abs(moved.value - base.value), time.perf_counter() - wall0
 
 
 def rigid_limit(run, settings, driver, result, material: Estimate, cont: RigidContinuation):

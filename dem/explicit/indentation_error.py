@@ -16,10 +16,11 @@ zero time step, zero node spacing, continuous curve), with sources the method me
 - "time step" and "node spacing" (``"full"``): the run repeated at half the time step, and at
   half the node spacing.
 
-A rerun's source is ``LEVEL_BOUND`` times the change of the number: with an error ``~ x^p`` in
-the parameter ``x`` and ``p >= 1``, the error of the run at ``x`` is ``|s_x - s_{x/2}|
-2^p / (2^p - 1) <= 2 |s_x - s_{x/2}|``. A rerun that does not reach the peak, or gives a
-non-finite number, makes that source unbounded.
+A rerun's source is :data:`dem.estimate.HALVED_RERUN_FACTOR` (2) times the change of the
+number: the bound of the run's own error for a convergence order of at least 1. A rerun that
+does not reach the peak, or gives a non-finite number, makes that source unbounded; so does,
+for the loading energy, a rerun whose block did not get out (its work stops at the end of the
+rerun, not at an ultimate deflection, so the two numbers are not the same quantity).
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from dem.estimate import ErrorBudget, Estimate, check_error_budget
+from dem.estimate import HALVED_RERUN_FACTOR, ErrorBudget, Estimate, check_error_budget
 
 logger = logging.getLogger(__name__)
 
@@ -50,10 +51,6 @@ indentation settings)."""
 BUDGET_SOURCES = {"none": (), "cheap": ("loading rate",),
                   "full": ("loading rate", "time step", "node spacing")}  # fmt: skip
 """The reruns each error budget pays for (:data:`dem.estimate.ErrorBudget`)."""
-
-LEVEL_BOUND = 2.0
-"""Factor on the change between a run and its rerun at half the parameter: the run's error
-for a convergence order of at least 1 (module notes)."""
 
 
 def curve_sampling(result, record_interval: float) -> dict[str, float]:
@@ -120,13 +117,22 @@ def indentation_estimates(
             logger.warning("the %s rerun did not reach the peak: that source is unbounded",
                            source)  # fmt: skip
         for name in QUANTITIES:
-            changed = float(getattr(other, name)) if other.peak_reached else math.nan
-            width = LEVEL_BOUND * abs(changed - values[name])
+            width = HALVED_RERUN_FACTOR * abs(_rerun_value(other, name) - values[name])
             sources[name][source] = width if math.isfinite(width) else math.inf
     notes = f"reruns at half the parameter: {', '.join(BUDGET_SOURCES[budget])}"
     omitted = tuple(s for s in BUDGET_SOURCES["full"] if s not in BUDGET_SOURCES[budget])
     return {name: Estimate(values[name], sources[name], cost, notes, omitted)
             for name in QUANTITIES if not math.isnan(values[name])}  # fmt: skip
+
+
+def _rerun_value(other, name: str) -> float:
+    """The rerun's number ``name``, NaN where it is not the same quantity as the run's: no
+    peak reached, or a loading energy without an ultimate deflection (module notes)."""
+    if not other.peak_reached:
+        return math.nan
+    if name == "loading_energy" and not math.isfinite(other.ultimate_deflection):
+        return math.nan
+    return float(getattr(other, name))
 
 
 def _rerun(run: Callable, settings, indentation, source: str):

@@ -50,6 +50,25 @@ def test_unreached_peak_is_unbounded():
     assert all(math.isinf(w) for w in curve_sampling(res, h).values())
 
 
+def test_a_rerun_whose_block_stays_in_leaves_the_loading_energy_unbounded():
+    """The rerun's curve stops at delta = 1.5, after its peak but before the block is out: its
+    peak load is comparable (a finite bar, twice the change, here 0), its loading energy is
+    the work up to the stop, not up to an ultimate deflection, so that source is unbounded."""
+    from dem.explicit.indentation_error import indentation_estimates
+
+    h = 1e-3
+    full = _triangle(h)
+    cut = full.delta <= 1.5
+    stopped = SimpleNamespace(**curve_summary(full.delta[cut], full.load[cut], 0.05, 0.5))
+    assert stopped.peak_reached and math.isnan(stopped.ultimate_deflection)
+    indentation = IndentationSettings(record_interval=h)
+    est = indentation_estimates(lambda s, i: stopped, ExplicitSettings(k_n=1e9), indentation, full,
+                                "cheap")  # fmt: skip
+    assert est["peak_load"].sources["loading rate"] == 0.0
+    assert math.isinf(est["loading_energy"].sources["loading rate"])
+    assert math.isinf(est["ultimate_deflection"].sources["loading rate"])
+
+
 FAST = IndentationSettings(speed=50 * MM, max_deflection=0.15 * MM, record_interval=0.005 * MM)
 
 

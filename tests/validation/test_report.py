@@ -436,3 +436,23 @@ def test_a_partial_bar_outside_its_reference_is_not_a_numerical_error():
     assert row.to_dict()["error_omits"] == ["node spacing"]
     full = Row("peak [N]", Estimate(243.2, {"loading rate": 0.8}), 256.1, "finest run")
     assert full.error_kind == "numerical"
+
+
+def test_a_cluster_run_starts_the_cases_longest_first(tmp_path):
+    """The manifest's wall times order a run (longest-processing-time first), a case of
+    unknown cost before all."""
+    from validation.cluster import _priority
+    from validation.manifest import previous_wall_times, write_manifest
+
+    for case, wall in (("short", 2.5), ("long", 800.0), ("mid", 30.0)):
+        _fake_result(tmp_path, case, "1" * 40)
+        data = json.loads((tmp_path / f"{case}.json").read_text())
+        data["wall_s"] = wall
+        (tmp_path / f"{case}.json").write_text(json.dumps(data))
+    assert previous_wall_times(tmp_path) == {}  # no manifest yet
+    write_manifest(tmp_path)
+    expected = previous_wall_times(tmp_path)
+    assert expected == {"short": 2.5, "long": 800.0, "mid": 30.0}
+    names = ["short", "new", "mid", "long"]
+    order = sorted(names, key=lambda n: _priority(n, expected), reverse=True)
+    assert order == ["new", "long", "mid", "short"]

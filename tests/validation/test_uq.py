@@ -138,3 +138,24 @@ def test_stats_rows_carry_the_bootstrap_bar_of_the_mean():
     assert set(row.error_sources) == {"sampling"}
     assert row.ours_error == pytest.approx(mean_ci(x)[1], rel=0.2)
     assert set(row.extra["bootstrap"]) == {"mean", "std", "q05", "q50", "q95", "cov"}
+
+
+def test_a_run_without_reruns_has_a_partial_peak_bar():
+    """The triangle P = 100 delta to delta = 1, then down, recorded every 1e-3: the peak's free
+    bar (curve sampling, 100 h) holds the continuous peak 100, and the reruns a full budget
+    would pay for are named as omitted (a partial bar, not an unknown one)."""
+    from types import SimpleNamespace
+
+    from dem.explicit import curve_summary
+    from validation.cases.uq import peak_estimate
+
+    h = 1e-3
+    delta = np.arange(1, 4001) * h
+    load = np.where(delta <= 1.0, 100 * delta, np.maximum(0.0, 100 * (2.0 - delta)))
+    res = SimpleNamespace(delta=delta, load=load, **curve_summary(delta, load, 0.05, 0.5))
+    est = peak_estimate(res, h)
+    assert est.contains(100.0) and 0 < est.error <= 100 * h * (1 + 1e-9)
+    assert est.omitted == ("loading rate", "time step", "node spacing") and not est.complete
+    up, up_load = delta[:500], 100 * delta[:500]
+    rising = SimpleNamespace(delta=up, load=up_load, **curve_summary(up, up_load, 0.05, 0.5))
+    assert math.isinf(peak_estimate(rising, h).error)

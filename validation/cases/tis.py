@@ -160,14 +160,15 @@ def energy_check(res: IndentationResult) -> float:
 def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict) -> list[Row]:
     """Peak load, deflection at peak, loading energy and ultimate deflection of one run, each
     with the run's own error bar (``res.estimates``; the peak row's ``error_cost_s`` is the
-    wall time of its reruns [s]); no ultimate deflection when the run stopped before the block
-    was out (blocks passing through each other where no contact node was seeded,
-    :mod:`dem.explicit.unmodelled`)."""
+    wall time of its reruns [s]); no ultimate deflection and no loading energy when the run
+    stopped before the block was out (blocks passing through each other where no contact node
+    was seeded, :mod:`dem.explicit.unmodelled`), :func:`loading_energy`."""
     wall = res.info["wall_s"]
     est = res.estimates
     extra = {**extra, "energy_over_work_max": energy_check(res),
              "error_cost_s": est["peak_load"].cost_s}  # fmt: skip
     ultimate = est.get("ultimate_deflection")
+    energy = loading_energy(res)
 
     def row(quantity: str, ours, more: dict | None = None) -> Row:
         return Row(f"{label}: {quantity}", ours, None, "", wall, settings, more or {})
@@ -175,13 +176,34 @@ def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict)
     return [
         row("peak load [N]", est["peak_load"], extra),
         row("deflection at peak [mm]", per_unit(est["deflection_at_peak"], MM)),
-        row("loading energy [N mm]", per_unit(est["loading_energy"], MM)),
+        row(
+            "loading energy [N mm]",
+            None if energy is None else per_unit(energy, MM),
+            {} if energy is not None else _no_energy(res),
+        ),
         row(
             "ultimate deflection [mm]",
             None if ultimate is None else per_unit(ultimate, MM),
             {"stopped_by": res.info.get("stopped_by", "")},
         ),  # fmt: skip
     ]
+
+
+def loading_energy(res: IndentationResult) -> Estimate | None:
+    """The loading energy with its bar, or None when the block did not get out: the work then
+    stops at the end of the run, which is a lower bound of the loading energy, not its value
+    (no ultimate deflection to integrate to)."""
+    if "ultimate_deflection" not in res.estimates:
+        return None
+    return res.estimates["loading_energy"]
+
+
+def _no_energy(res: IndentationResult) -> dict:
+    return {
+        "note": "no loading energy: the block did not get out, so the work up to the end of "
+        "the run (work_to_end_nmm) is a lower bound of it",
+        "work_to_end_nmm": float(res.loading_energy / MM),
+    }
 
 
 def ratio(num: Estimate, den: Estimate) -> Estimate:
@@ -321,11 +343,13 @@ def _calibration_ratio_rows(results: dict, disc: dict) -> list[Row]:
             {"k_imp_over_k_def": k_ratio,
              "rel_to_k_ratio": res.peak_load / perf.peak_load / k_ratio - 1.0},
         ))  # fmt: skip
+        energies = loading_energy(res), loading_energy(perf)
+        missing = {"note": "no loading energy in one of the runs (the block did not get out)"}
         rows.append(Row(
             f"{n}x{n} theta={theta:g}: LE_calibrated / LE_perfect",
-            ratio(res.estimates["loading_energy"], perf.estimates["loading_energy"]), ref_e,
+            None if None in energies else ratio(*energies), ref_e,
             "seed 000 1/(Table 1 x Table 2)" if ref_e else "", None, settings,
-            {"k_imp_over_k_def": k_ratio},
+            {"k_imp_over_k_def": k_ratio, **(missing if None in energies else {})},
         ))  # fmt: skip
     return rows
 
@@ -404,9 +428,15 @@ def _stability_rows(quick: bool, disc: dict, store: dict) -> list[Row]:
     flat, scene = run_panel(n, 0.0, k_def, disc, max_deflection_mm=4.0, relaxation=falling,
                             error=budget)  # fmt: skip
     mech = mechanism(flat, scene)
+    if not flat.peak_reached:  # the largest load so far is no peak (a lower bound only)
+        mech = {**mech, "largest_load_ratio": float(flat.peak_load / ref.peak_load),
+                "note": "no peak: the load never fell after its largest value, so there is no "
+                "P_max to bound; largest_load_ratio is the largest load over the travel / "
+                "P_max(theta=2.5)"}  # fmt: skip
     rows.append(Row(
         f"{n}x{n} theta=0 (no interlock): P_max / P_max(theta=2.5)",
-        ratio(flat.estimates["peak_load"], ref.estimates["peak_load"]),
+        ratio(flat.estimates["peak_load"], ref.estimates["peak_load"])
+        if flat.peak_reached else None,
         0.0, "no interlock: the central block slides out at near-zero load (the indenter pushes "
         "only against the damping) while the panel stays exactly symmetric; unstable (an "
         "indenter 1 nm off the axis lets two neighbours slide down with it and jam it, about "
