@@ -6,7 +6,7 @@ Prints
 1. ``--table2``: every Table 2 wall (Restrepo-Velez specimens) to collapse with both interface
    laws and both return-wall models: wall time against the target of 10 s, lambda, termination
    (a run that did not collapse, or raised a StaticSolverError, prints its termination,
-   never a lambda), steps and Newton
+   never a lambda), the certificate of a plateau (``dem.static.certificate``), steps and Newton
    iterations (the load-independent measure of the work) and how many of them went into
    Newton solves that failed; ``--save FILE`` writes the rows as
    JSON, ``--baseline FILE`` (such a JSON of an earlier run) adds to each row its time and
@@ -100,6 +100,7 @@ def run_wall(name: str, model: str, variant: str) -> dict:
         "lam": result.lambda_max if result.collapsed else None,
         "lam_error": result.lambda_estimate.error if result.collapsed else None,
         "termination": result.termination,
+        "certificate": result.certificate,
         "steps": result.n_steps,
         "iterations": result.n_iterations,
         "failed_iterations": result.n_failed_iterations,
@@ -122,7 +123,8 @@ def _line(r: dict) -> str:
     ok = "OK" if r["wall_s"] <= TARGET_S else "over target"
     return (
         f"{r['name']:9s} {r['model']:9s} {r['variant']:12s} lambda {lam:>11s} "
-        f"{r['termination']:10s} steps {r['steps']:4d} iterations {r['iterations']:5d} "
+        f"{r['termination']:10s} {r.get('certificate', ''):12s} steps {r['steps']:4d} "
+        f"iterations {r['iterations']:5d} "
         f"(failed {r.get('failed_iterations', 0):5d}, {share:4.0%}) {r['wall_s']:7.2f} s  {ok}"
     )
 

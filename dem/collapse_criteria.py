@@ -20,12 +20,19 @@ A rise below the error of two points (from the residuals they reached) counts as
 and a path flat within it over both stretches as approaching at the slowest ratio allowed:
 the bar of a limit point is then 18 times that error.
 
-The path is a collapse (``"plateau"``) once, on ``plateau_steps`` consecutive steps spanning
-``plateau_steps`` first increments and the whole of ``[s (1 - w)^2, s]``, its secant slope
-is below ``plateau_slope`` of the initial one, and the rise still to come is at most
-``plateau_rise`` of the peak: lambda has converged to that stated tolerance. (Without the
-span, the knee of the elastic start in the first stretch made any slow rise after it look
-like an approach.) A path still rising is never a collapse. Lambda falling
+**A certificate.** The shape of the path says when it is flat, never that it will stay so:
+a creep at 1e-5 of the initial slope after a knee (a corner tipping on the fibre law's
+smallest springs) makes the ratio of rises fall, then grow again, and an extrapolation from
+before the creep excludes the limit. So the shape is only the trigger: once, on
+``plateau_steps`` consecutive steps spanning ``plateau_steps`` first increments and the
+whole of ``[s (1 - w)^2, s]``, the secant slope is below ``plateau_slope`` of the initial
+one and the extrapolated rise is at most ``plateau_rise`` of the peak (without the span, the
+knee of the elastic start in the first stretch made any slow rise after it look like an
+approach), the ``certifier`` is asked for a :class:`Certificate` from the mechanics (a limit
+point of the tangent, :mod:`dem.static.certificate`). With one the path is a collapse
+(``"plateau"``); without, it goes on (and is asked again at the next such step). A path
+that reaches its last step flat but uncertified is no collapse: its remaining rise is then
+an extrapolation, not a bound. A path still rising is never a collapse. Lambda falling
 by ``softening_drop`` of its peak (softening) or going back in ``c`` while falling (a
 snap-back) also ends it, at a peak already passed.
 """
@@ -33,6 +40,8 @@ snap-back) also ends it, at a peak already passed.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -42,6 +51,35 @@ approach to a limit; a ratio of 0.9 leaves 9 times the last rise to come."""
 
 NOISE_FACTOR = 10.0
 """A rise below this many times lambda's noise is no rise."""
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """Why a flat path is a collapse.
+
+    Attributes
+    ----------
+    kind : str
+        ``"limit point"``: the tangent is singular in a direction the live load works on;
+        ``"upper bound"``: the peak meets an upper bound of the collapse multiplier
+        (:mod:`dem.static.certificate`).
+    end_error : float
+        Half-width of the end-of-path error of lambda that it leaves [unit of lambda].
+    note : str
+        What was measured.
+    """
+
+    kind: str
+    end_error: float
+    note: str = ""
+
+
+class Certifier(Protocol):
+    """What certifies the end of a flat path from the mechanics."""
+
+    def certify(self, peak: float, remaining: float) -> Certificate | None:
+        """The certificate at the last point (``peak`` the largest lambda so far, the path
+        extrapolating ``remaining`` more rise), or None: the path goes on."""
 
 
 class CollapseCriteria:
@@ -65,6 +103,8 @@ class CollapseCriteria:
         (module notes).
     plateau_window : float
         ``w`` of the geometric progression ``s (1 - w)^k`` over which the rises are compared.
+    certifier : Certifier
+        Asked for a certificate when the path's shape would end it (module notes).
 
     Attributes
     ----------
@@ -74,6 +114,8 @@ class CollapseCriteria:
         The error of each point's lambda (``lam_error``).
     peak : float
         Largest lambda so far.
+    certificate : Certificate or None
+        The certificate of a ``"plateau"`` end.
     """
 
     def __init__(
@@ -85,6 +127,8 @@ class CollapseCriteria:
         softening_drop: float,
         plateau_rise: float = 1e-3,
         plateau_window: float = 0.5,
+        *,
+        certifier: Certifier,
     ):
         if not (math.isfinite(dc0) and dc0 > 0):
             raise ValueError(f"dc0 must be a finite positive length [m], got {dc0!r}")
@@ -114,6 +158,8 @@ class CollapseCriteria:
         self.c_plateau = 0.0
         self.s_flat = math.inf
         self.n_back = 0
+        self.certifier = certifier
+        self.certificate: Certificate | None = None
 
     def secant_slope(self, window: float) -> float | None:
         """``d lambda / d c`` from the last point back to the latest one at least ``window``
@@ -157,6 +203,11 @@ class CollapseCriteria:
             q = d2 / d1 if d1 > 0 else math.inf
         return d2 * q / (1.0 - q) if q <= Q_CONVERGING else math.inf
 
+    def flat(self) -> bool:
+        """Whether the last step counted towards a plateau (its secant slope is below
+        ``plateau_slope`` of the initial one)."""
+        return self.n_plateau > 0
+
     def approaching(self) -> bool:
         """Whether the path is flat against its start (its last step counted towards a
         plateau) and approaches a limit (its remaining rise is finite)."""
@@ -190,14 +241,17 @@ class CollapseCriteria:
                 # there for plateau_steps steps and dc0s is a mechanism at lambda = 0 (a block
                 # on a frictionless floor)
                 far = c - self.ctrl[0] >= (1.0 - 1e-9) * self.plateau_steps * self.dc0
-                return "plateau" if far and len(self.lams) > self.plateau_steps else None
+                if far and len(self.lams) > self.plateau_steps:
+                    return self._certified(lam_noise)
+                return None
             self.slope0 = max(lam / (c - self.ctrl[0]), 1e-300)
         self._count_flat(lam_noise, loose)
         long = self.c_plateau >= (1.0 - 1e-9) * self.plateau_steps * self.dc0
         s_end = max(self.ctrl) - self.ctrl[0]
         spans = self.s_flat <= (1.0 + 1e-9) * s_end * (1.0 - self.plateau_window) ** 2
         if self.n_plateau >= self.plateau_steps and long and spans and self.peak > 0:
-            if self.remaining_rise() <= self.plateau_rise * self.peak:
+            rise = self.remaining_rise()
+            if rise <= self.plateau_rise * self.peak and self._certified(rise):
                 return "plateau"
         if lam < (1.0 - self.softening_drop) * self.peak:
             return "softening"
@@ -213,6 +267,12 @@ class CollapseCriteria:
         if self.n_back >= self.plateau_steps and self.peak - lam > drop:
             return "snap_back"
         return None
+
+    def _certified(self, remaining: float) -> str | None:
+        """``"plateau"`` if the certifier certifies the last point (kept in
+        :attr:`certificate`), else None."""
+        self.certificate = self.certifier.certify(self.peak, remaining)
+        return None if self.certificate is None else "plateau"
 
     def _count_flat(self, lam_noise: float, loose: bool) -> None:
         """Count the steps whose secant slope is below ``plateau_slope`` of the initial one

@@ -110,6 +110,7 @@ class InterfaceLaw(Protocol):
 
     settings: ResultantLawSettings | FibreLawSettings
     state: np.ndarray  # (m,) int64, at the last equilibrium
+    plastic: tuple  # the plastic state evaluate starts from (arrays replaced, never mutated)
 
     def evaluate(self, q: np.ndarray, floor: float) -> LawResponse:
         """Actions and tangents for the relative motions ``q`` (m, 6) [m, rad]."""

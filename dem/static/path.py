@@ -12,15 +12,19 @@ Each live step prescribes the increment of a control ``w . u`` and solves for ``
   fixed control's step would leave the path creeping at a constant lambda;
 - **step size**: the increment adapts to the Newton iteration count (``target_iterations``),
   halves on a failed step, and stays within ``max_step_factor`` first increments unless the
-  path is flat and approaches a limit
-  (:meth:`dem.collapse_criteria.CollapseCriteria.approaching`): then
-  it may keep doubling, so that the path samples its approach in a geometric progression
-  and reaches a slow limit (``s^{-1/2}``) in a few dozen steps;
+  path is flat (:meth:`dem.collapse_criteria.CollapseCriteria.flat`): then it may keep
+  doubling, so that the path samples its approach in a geometric progression and reaches a
+  slow limit (``s^{-1/2}``) in a few dozen steps, and a creep (at 1e-5 of the initial slope,
+  say) travels to its end, where a limit point certifies it, instead of ending uncertified
+  at ``max_steps``;
 - **cracking cascade**: when no step converges and the failed trial broke mortar joints, the
   cracks are kept and the path restarts from the last equilibrium (brittle snap-back);
-- **end**: the collapse criteria of :mod:`dem.collapse_criteria` (lambda converged to the
-  stated ``plateau_rise``, softening, snap-back); otherwise ``max_steps`` (lambda still
-  rising: no collapse, with how much it may still rise) or ``stalled`` (no step converges
+- **end**: the collapse criteria of :mod:`dem.collapse_criteria`: a flat path whose
+  extrapolated rise is below the stated ``plateau_rise`` ends only with a certificate from
+  the mechanics (a limit point of the tangent, :mod:`dem.static.certificate`, or an upper
+  bound that the peak meets, :mod:`dem.static.upper_bound`); softening,
+  snap-back. Otherwise ``max_steps`` (no collapse: lambda still rising, or flat without a
+  certificate, with the extrapolated rise as an estimate) or ``stalled`` (no step converges
   even at ``min_step_ratio``: no collapse either, wherever the path was).
 """
 
@@ -33,10 +37,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from dem.collapse_criteria import CollapseCriteria
+from dem.static.certificate import FirstOf, LimitPointCertifier
 from dem.static.model import Model
 from dem.static.newton import Constraint, Corrector, Iterate, Outcome, factor
 from dem.static.result import StaticSolverError
 from dem.static.settings import StaticSettings
+from dem.static.upper_bound import UpperBoundCertifier
 
 logger = logging.getLogger(__name__)
 
@@ -95,6 +101,7 @@ class PathFollower:
         self.peak = Peak(0.0, start.u.copy(), start.ev.law.f.copy(), model.law.state.copy())
         self.history = [start.u.copy()]
         self.dc0 = first_increment(model, corrector, start.u)
+        self.upper_bound = UpperBoundCertifier(model.scene, settings, settings.plateau_rise)
         self.criteria = CollapseCriteria(
             float(model.w @ start.u),
             self.dc0,
@@ -103,6 +110,10 @@ class PathFollower:
             settings.softening_drop,
             settings.plateau_rise,
             settings.plateau_window,
+            certifier=FirstOf(
+                LimitPointCertifier(model, lambda: (self.point.u, self.step_plastic)),
+                self.upper_bound,
+            ),
         )
         # step control: the increment, its bounds, the last accepted increment
         self.dc = self.dc_ref = self.dc_cascade = self.dc0
@@ -112,6 +123,7 @@ class PathFollower:
         self.last_du = np.zeros_like(start.u)
         self.last_dlam = self.last_dc = 0.0
         self.floor = None
+        self.step_plastic = model.law.plastic  # the law's plastic state at the last step's start
         self.n_steps, self.n_iterations = 0, n_iter
         self.n_loose = self.n_cascades = self.n_arc = self.n_failed_iterations = 0
         self.n_failed = 0  # consecutive failed steps
@@ -130,6 +142,12 @@ class PathFollower:
                 return end
         return "max_steps", self._still_rising()
 
+    @property
+    def certificate(self) -> str:
+        """The kind of the certificate of a ``"plateau"`` end, else ""."""
+        cert = self.criteria.certificate
+        return "" if cert is None else cert.kind
+
     def pushover(self) -> tuple[np.ndarray, np.ndarray]:
         """``(lambda, c)`` along the path so far."""
         return np.array(self.criteria.lams), np.array(self.criteria.ctrl)
@@ -137,9 +155,12 @@ class PathFollower:
     def error_sources(self, termination: str) -> dict[str, float]:
         """Half-widths of the peak of lambda [same unit] that this path gives for free.
 
-        ``"end of path"``: how much lambda may still rise
-        (:meth:`dem.collapse_criteria.CollapseCriteria.remaining_rise`; 0 past a peak, after
-        softening or a snap-back); ``"load step"``: the change of lambda over the steps next
+        ``"end of path"``: how much lambda may still rise, as the end's certificate states it
+        (:class:`dem.collapse_criteria.Certificate`; 0 past a peak, after softening or a
+        snap-back); on a path without a certificate ``"end of path (extrapolated)"``, the
+        rise extrapolated from the path's shape
+        (:meth:`dem.collapse_criteria.CollapseCriteria.remaining_rise`), an estimate that
+        a creep can exceed; ``"load step"``: the change of lambda over the steps next
         to the peak (the path's peak lies between its neighbours' samples; the path
         dependence of friction is measured only by a second run, ``error="full"``);
         ``"residual"``: the error of lambda that the residual tolerance allows at the peak.
@@ -148,9 +169,14 @@ class PathFollower:
         lams = np.asarray(criteria.lams)
         k = int(np.argmax(lams))
         step = float(np.max(np.abs(lams[max(k - 1, 0) : k + 2] - lams[k])))
-        past_peak = termination in ("softening", "snap_back")
-        end = 0.0 if past_peak else criteria.remaining_rise()
-        return {"load step": step, "end of path": end, "residual": criteria.error[k]}
+        sources = {"load step": step, "residual": criteria.error[k]}
+        if termination in ("softening", "snap_back"):
+            sources["end of path"] = 0.0
+        elif termination == "plateau":
+            sources["end of path"] = criteria.certificate.end_error
+        else:
+            sources["end of path (extrapolated)"] = criteria.remaining_rise()
+        return sources
 
     def _constraint(self, dc: float) -> Constraint:
         return Constraint(w=self.w, c=float(self.w @ self.point.u) + dc, dc=dc)
@@ -227,6 +253,7 @@ class PathFollower:
         new, old = out.point, self.point
         self.floor = out.floor
         self.n_loose += int(out.loose)
+        self.step_plastic = self.model.law.plastic  # commit replaces it by new arrays
         self.model.law.commit(new.ev.law)
         self.n_failed = 0
         self.n_iterations += out.iterations
@@ -257,7 +284,7 @@ class PathFollower:
         target = self.settings.target_iterations
         growth = 1.0 if out.loose else math.sqrt(target / max(out.iterations, 1))
         self.dc *= min(max(growth, 0.5), 2.0)
-        if not self.criteria.approaching():
+        if not self.criteria.flat():
             self.dc = min(self.dc, self.dc_max)
         return None
 
@@ -273,11 +300,20 @@ class PathFollower:
         more = (
             "an unknown amount (it does not approach a limit yet)"
             if math.isinf(rise)
-            else f"about {rise:.3g} ({100 * rise / max(criteria.peak, 1e-300):.2g} %)"
+            else f"about {rise:.3g} ({100 * rise / max(criteria.peak, 1e-300):.2g} %, "
+            "extrapolated from the path's shape: an estimate, not a bound)"
+        )
+        checks = criteria.certifier.n_checks
+        bound = self.upper_bound.bound
+        known = "" if bound is None else f" nor meet the upper bound {bound.format()}"
+        uncertified = (
+            f"; flat, but {checks} checks found no limit point of the tangent{known}"
+            if checks
+            else ""
         )
         reason = (
             f"still rising at {100 * ratio:.2g} % of the initial slope after max_steps = "
-            f"{self.settings.max_steps}; lambda may still rise by {more}"
+            f"{self.settings.max_steps}{uncertified}; lambda may still rise by {more}"
         )
         logger.warning(reason)
         return reason

@@ -101,6 +101,13 @@ class StaticResult:
         rise). No collapse: ``"max_steps"`` (lambda still rising), ``"stalled"`` (no step
         converged even at the smallest increment) or ``"no_mechanism"`` (the live load does
         no work on any motion the joints allow: lambda is unbounded).
+    certificate : str
+        What certifies a ``"plateau"`` end: ``"limit point"`` (the tangent at the last
+        equilibrium is singular in a direction the live load works on,
+        :mod:`dem.static.certificate`) or ``"upper bound"`` (the peak meets the limit
+        analysis' upper bound within ``plateau_rise``, :mod:`dem.static.upper_bound`); ""
+        for every other termination (softening and
+        snap-back are past a peak; the others are no collapse).
     wall_s : float
         Wall time [s] of the run that gave ``lambda_max`` (the error estimate's extra runs
         are in ``lambda_estimate.cost_s``).
@@ -139,6 +146,7 @@ class StaticResult:
     n_failed_iterations: int
     failure: str
     termination: str
+    certificate: str
     wall_s: float
     lambda_estimate: Estimate
     settings: dict = field(default_factory=dict)

@@ -200,7 +200,8 @@ class StaticSettings:
         First live-load increment as a fraction of ``lambda_scale = |F_D| / |F_L|`` (total
         dead over total live force): for a live load equal to the weight, ``d lambda``.
     max_step_factor : float
-        Largest control increment, in first increments.
+        Largest control increment, in first increments, while the path is not flat (a flat
+        path's steps may keep growing: :mod:`dem.static.path`).
     max_steps : int
         Live-load steps at most.
     max_iterations : int
@@ -227,8 +228,9 @@ class StaticSettings:
         The stated tolerance of the end: the path is a collapse once lambda may still rise
         by at most ``plateau_rise`` of itself, estimated from its rises over the stretches
         ``[s (1 - w)^2, s (1 - w)]`` and ``[s (1 - w), s]`` of the travelled control ``s``,
-        ``w = plateau_window`` (:mod:`dem.collapse_criteria`); that estimate is the
-        result's "end of path" error.
+        ``w = plateau_window`` (:mod:`dem.collapse_criteria`). It triggers the end, which
+        needs a certificate from the mechanics (:mod:`dem.static.certificate`); the
+        certificate states the result's "end of path" error.
     softening_drop : float
         End when lambda falls below ``(1 - softening_drop) lambda_max``.
     dead_steps : int

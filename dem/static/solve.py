@@ -169,6 +169,7 @@ class _Unloaded:
         self.c0 = float(model.w @ dead.u)
         self.n_steps, self.n_iterations = 0, n_iter
         self.n_loose = self.n_cascades = self.n_arc = self.n_failed_iterations = 0
+        self.certificate = ""
 
     def pushover(self) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros(1), np.array([self.c0])
@@ -227,6 +228,7 @@ def _finish(model: Model, path, termination: str, reason: str, start: float) -> 
         n_failed_iterations=path.n_failed_iterations,
         failure="" if collapsed else reason,
         termination=termination,
+        certificate=path.certificate if termination == "plateau" else "",
         wall_s=time.perf_counter() - start,
         lambda_estimate=Estimate.unknown(float(peak.lam)),
         settings=settings.to_dict(),

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from dem.collapse_criteria import CollapseCriteria
+from dem.collapse_criteria import Certificate, CollapseCriteria
 
 DC0 = 1e-4  # first control increment [m]
 SLOPE0 = 100.0  # initial slope d lambda / d c [1/m]: the first step reaches lambda = 0.01
@@ -13,9 +13,23 @@ NOISE = 1e-6  # error of lambda at every point
 KNEE = 10 * DC0  # end of the elastic part of the paths below [m]
 
 
-def _criteria(**kw):
+class Always:
+    """Certifies every end the path's shape triggers: the tests below check the trigger."""
+
+    def certify(self, lam, remaining):
+        return Certificate("limit point", remaining)
+
+
+class Never:
+    """Certifies nothing (a creep whose tangent never becomes singular)."""
+
+    def certify(self, lam, remaining):
+        return None
+
+
+def _criteria(certifier=None, **kw):
     args = dict(plateau_slope=2e-3, plateau_steps=4, softening_drop=0.2)
-    return CollapseCriteria(0.0, DC0, **{**args, **kw})
+    return CollapseCriteria(0.0, DC0, **{**args, **kw}, certifier=certifier or Always())
 
 
 def _run(criteria, cs, lams):
@@ -42,6 +56,16 @@ def test_elastic_perfectly_plastic_path_ends_once_flat_over_a_doubling_of_the_pa
     i, end = _run(criteria, cs, np.minimum(SLOPE0 * cs, 0.1))
     assert end == "plateau"
     assert 4 * KNEE <= cs[i] <= 4 * 1.25 * KNEE
+    assert criteria.remaining_rise() <= 20 * NOISE
+
+
+def test_a_flat_path_without_a_certificate_never_ends():
+    # the path of the test above, flat from the knee on, but nothing certifies a limit point:
+    # it goes on, and its remaining rise stays an extrapolation
+    cs = _growing(40)
+    criteria = _criteria(Never())
+    assert _run(criteria, cs, np.minimum(SLOPE0 * cs, 0.1)) == (None, None)
+    assert criteria.certificate is None
     assert criteria.remaining_rise() <= 20 * NOISE
 
 
@@ -144,7 +168,7 @@ def test_softening_ends_when_lambda_drops_by_a_fifth():
 def test_bad_settings_are_refused(kw, match):
     args = dict(c0=0.0, dc0=DC0, plateau_slope=2e-3, plateau_steps=4, softening_drop=0.2)
     with pytest.raises(ValueError, match=match):
-        CollapseCriteria(**{**args, **kw})
+        CollapseCriteria(**{**args, **kw}, certifier=Always())
 
 
 def test_a_path_flat_at_zero_from_the_start_is_a_mechanism_at_zero():

@@ -6,7 +6,7 @@ import pytest
 
 import limit
 from dem.scene import Scene, proportional_to_weight
-from dem.static import StaticSettings, solve_collapse
+from dem.static import NoCollapseError, StaticSettings, solve_collapse
 
 
 def _box(lo, hi) -> np.ndarray:
@@ -64,7 +64,25 @@ def test_a_turned_arch_collapses_at_the_same_multiplier():
         assert res == pytest.approx(resultant, rel=1e-2)
 
 
-def test_a_wall_built_along_a_diagonal_collapses_as_along_x():
+@pytest.mark.parametrize(
+    "law",
+    [
+        pytest.param(
+            "resultant",
+            marks=pytest.mark.xfail(
+                strict=True,
+                raises=NoCollapseError,
+                reason="the end needs a certificate (dem.static.certificate): the wall along x "
+                "used to end at 0.2140 from the path's shape, but its path rises on to "
+                "0.217068 and stalls with neither a limit point nor an upper bound (rocking "
+                "alone is unbounded with the fixed column; Eq. A5 is not inside the vertex "
+                "joint); the turned wall ends at a limit point at 0.213978",
+            ),
+        ),
+        "fibre",
+    ],
+)
+def test_a_wall_built_along_a_diagonal_collapses_as_along_x(law):
     """A dry running-bond wall (8 courses of 6 blocks, one fixed end column) pushed out of
     plane, turned 45 degrees about z: the resultant law gave 0.2212 instead of 0.2140 (+3.4 %:
     its reduced rectangle was the bounding box of the turned joints), the fibre law -1.3 %."""
@@ -80,7 +98,6 @@ def test_a_wall_built_along_a_diagonal_collapses_as_along_x():
         mu=0.6,
     )
     turned = turned.with_loads(live=proportional_to_weight(turned.assembly, tuple(rot[:, 1])))
-    for law in ("resultant", "fibre"):
-        settings = StaticSettings(interface_model=law)
-        lam = solve_collapse(base, settings).lambda_max
-        assert solve_collapse(turned, settings).lambda_max == pytest.approx(lam, rel=1e-3), law
+    settings = StaticSettings(interface_model=law)
+    lam = solve_collapse(base, settings).lambda_max
+    assert solve_collapse(turned, settings).lambda_max == pytest.approx(lam, rel=1e-3)

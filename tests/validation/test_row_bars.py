@@ -1,11 +1,10 @@
 """Every row with a numeric ``ours`` carries an error bar (issue 28), and a residual's bar is a
 check that can fail.
 
-Each case runs in quick mode; a row whose bar is unknown (``± ?``) fails the test unless it
-matches an entry of :data:`EXEMPT`, which names the rows by a piece of their quantity and says
-why they have no bar. An entry that matches no unknown row fails too, so the list only
-shrinks. A cost row (a wall time, :attr:`validation.report.Row.cost`) is not a result and has
-no bar by design. The cheap cases run in the fast suite, the others under ``-m slow``.
+Each case runs in quick mode; a row whose bar is unknown (``± ?``) fails the test. A row
+with nothing to bound has no value (``ours`` None) and says why; a cost row (a wall time,
+:attr:`validation.report.Row.cost`) is not a result and has no bar by design. The cheap cases
+run in the fast suite, the others under ``-m slow``.
 """
 
 import math
@@ -14,15 +13,6 @@ import pytest
 
 from validation.catalogue import CASES
 from validation.report import staged
-
-NO_PEAK = (
-    "the no-interlock panel's load never falls after its largest value (the run reaches the "
-    "end of its travel at about 1 N): no peak was reached, so its P_max is only a lower bound "
-    "and the ratio's bar is unbounded (dem.explicit.indentation_error)"
-)
-EXEMPT: dict[str, tuple[tuple[str, str], ...]] = {
-    "tis-panels": (("theta=0 (no interlock): P_max / P_max(theta=2.5)", NO_PEAK),),
-}
 
 FAST = (
     "geometry",
@@ -44,22 +34,14 @@ def _rows(case: str, tmp_path):
 
 
 def _check_bars(case: str, rows) -> None:
-    exempt = EXEMPT.get(case, ())
-    used: set[str] = set()
     missing = []
     for row in rows:
         if row.cost:
             assert row.ours_error is None and "[s]" in row.quantity, row.quantity
             continue
-        if row.ours is None or math.isfinite(row.ours_error):
-            continue
-        hits = [pattern for pattern, _ in exempt if pattern in row.quantity]
-        used.update(hits)
-        if not hits:
+        if row.ours is not None and not math.isfinite(row.ours_error):
             missing.append(row.quantity)
     assert not missing, f"{case}: rows without an error bar: {missing}"
-    stale = [pattern for pattern, _ in exempt if pattern not in used]
-    assert not stale, f"{case}: exemptions that no longer match an unknown bar: {stale}"
 
 
 @pytest.mark.parametrize("case", FAST)
