@@ -53,6 +53,7 @@ def style_axes(ax, title: str, xlabel: str, legend_loc: str) -> None:
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7, loc=legend_loc)
 
+
 def method_of(case: str) -> str:
     for prefix, label in METHODS:
         if case.startswith(prefix):
