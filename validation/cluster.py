@@ -57,9 +57,10 @@ def run_cases_on_cluster(
     out_dir : path, optional
         Results directory (default: :func:`validation.report.results_dir` of ``quick``).
     expected_s : mapping, optional
-        Case -> expected wall time [s]. The cases start longest first (a case of unknown cost
-        first of all): with fewer workers than cases, the run then ends soonest after its
-        longest case (longest-processing-time order).
+        Case -> expected wall time [s]. The cases are submitted and start longest first (a
+        case of unknown cost first of all; the first submitted go to idle workers at once,
+        whatever their priority): with fewer workers than cases, the run then ends soonest
+        after its longest case (longest-processing-time order).
     """
     with open_executor(workers, scheduler) as ex:
         if not isinstance(ex, DaskExecutor):
@@ -78,7 +79,7 @@ def run_cases_on_cluster(
                 key=f"case-{token}-{name}",
                 priority=_priority(name, expected_s or {}),
             ): name
-            for name in names
+            for name in sorted(names, key=lambda n: _priority(n, expected_s or {}), reverse=True)
             if name not in MAIN_THREAD_CASES
         }
         here = [name for name in names if name in MAIN_THREAD_CASES]
