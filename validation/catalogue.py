@@ -21,13 +21,17 @@ from validation.report import results_dir, staged, write_results
 logger = logging.getLogger(__name__)
 
 
-def discover_cases() -> dict[str, Callable]:
-    """Every case: each module of ``validation.cases`` exposes ``CASES = {name: run}``.
+def discover_cases() -> tuple[dict[str, Callable], frozenset[str]]:
+    """Every case, and those that must run in a process's main thread.
 
-    ``run(quick: bool)`` returns a list of :class:`validation.report.Row`, or a pair
-    ``(rows, notes)`` where ``notes`` is markdown stating the case's assumptions.
+    Each module of ``validation.cases`` exposes ``CASES = {name: run}``; ``run(quick: bool)``
+    returns a list of :class:`validation.report.Row`, or a pair ``(rows, notes)`` where
+    ``notes`` is markdown stating the case's assumptions. A module may name in
+    ``MAIN_THREAD`` the cases that need the main thread (a library that installs signal
+    handlers), which a dask worker's task threads are not.
     """
     cases: dict[str, Callable] = {}
+    main_thread: set[str] = set()
     for info in sorted(pkgutil.iter_modules(validation.cases.__path__), key=lambda m: m.name):
         try:
             module = importlib.import_module(f"validation.cases.{info.name}")
@@ -38,7 +42,8 @@ def discover_cases() -> dict[str, Callable]:
             if name in cases:
                 raise RuntimeError(f"validation case {name!r} is defined twice")
             cases[name] = run
-    return cases
+        main_thread.update(getattr(module, "MAIN_THREAD", ()))
+    return cases, frozenset(main_thread)
 
 
 def _failed_import(module: str, exc: Exception) -> Callable:
@@ -48,7 +53,7 @@ def _failed_import(module: str, exc: Exception) -> Callable:
     return run
 
 
-CASES = discover_cases()
+CASES, MAIN_THREAD_CASES = discover_cases()
 
 
 def run_case(name: str, quick: bool, out_dir: str | Path | None = None) -> list:

@@ -16,6 +16,7 @@ import uuid
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 
+from validation.catalogue import MAIN_THREAD_CASES
 from validation.catalogue import run_case as run_catalogued_case
 from validation.sweep.execute import one_numba_thread
 from validation.sweep.executors import DaskExecutor, open_executor
@@ -43,7 +44,8 @@ def run_cases_on_cluster(
     expected_s: Mapping[str, float] | None = None,
 ) -> Iterator[tuple[str, float | None, BaseException | None]]:
     """Run cases as dask tasks; yield ``(name, wall_s or None, error or None)`` in completion
-    order.
+    order. A case that needs a main thread (:data:`validation.catalogue.MAIN_THREAD_CASES`)
+    runs here, in this process, while the cluster runs the others.
 
     Parameters
     ----------
@@ -55,17 +57,14 @@ def run_cases_on_cluster(
     out_dir : path, optional
         Results directory (default: :func:`validation.report.results_dir` of ``quick``).
     expected_s : mapping, optional
-        Case -> expected wall time [s]. The cases start longest first (a case of unknown cost
-        first of all): with fewer workers than cases, the run then ends soonest after its
-        longest case (longest-processing-time order).
+        Case -> expected wall time [s]. The cases are submitted and start longest first (a
+        case of unknown cost first of all; the first submitted go to idle workers at once,
+        whatever their priority): with fewer workers than cases, the run then ends soonest
+        after its longest case (longest-processing-time order).
     """
     with open_executor(workers, scheduler) as ex:
         if not isinstance(ex, DaskExecutor):
-            for name in names:
-                try:
-                    yield name, run_case(name, quick, out_dir), None
-                except Exception as exc:  # report every case, fail at the end
-                    yield name, None, exc
+            yield from _run_here(run_case, names, quick, out_dir)
             return
         from distributed import as_completed
 
@@ -80,8 +79,11 @@ def run_cases_on_cluster(
                 key=f"case-{token}-{name}",
                 priority=_priority(name, expected_s or {}),
             ): name
-            for name in names
+            for name in sorted(names, key=lambda n: _priority(n, expected_s or {}), reverse=True)
+            if name not in MAIN_THREAD_CASES
         }
+        here = [name for name in names if name in MAIN_THREAD_CASES]
+        yield from _run_here(run_case_task, here, quick, out_dir)
         for future in as_completed(futures):
             name = futures[future]
             try:
@@ -89,6 +91,15 @@ def run_cases_on_cluster(
             except Exception as exc:  # report every case, fail at the end
                 yield name, None, exc
             future.release()
+
+
+def _run_here(run, names: list[str], quick: bool, out_dir: str | Path | None):
+    """``run`` each case in this thread, yielding as :func:`run_cases_on_cluster` does."""
+    for name in names:
+        try:
+            yield name, run(name, quick, out_dir), None
+        except Exception as exc:  # report every case, fail at the end
+            yield name, None, exc
 
 
 def _priority(name: str, expected_s: Mapping[str, float]) -> int:

@@ -372,7 +372,10 @@ def staged(case: str, out_dir: Path | None = None) -> Iterator[Path]:
     out_dir = Path(RESULTS_DIR if out_dir is None else out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     for stale in out_dir.glob(f"{STAGING_PREFIX}{case}-*"):
-        shutil.rmtree(stale, ignore_errors=True)
+        # only this case's (its name then a pid): "tis-friction" must not take the live
+        # staging directory of "tis-friction-uq" running beside it
+        if stale.name.removeprefix(f"{STAGING_PREFIX}{case}-").isdigit():
+            shutil.rmtree(stale, ignore_errors=True)
     stage = out_dir / f"{STAGING_PREFIX}{case}-{os.getpid()}"
     stage.mkdir()
     token, final = _STAGING.set(stage), _FINAL.set(out_dir)

@@ -314,6 +314,18 @@ def _max_direction(sigma_t, C, regions, counts, beta, band, acc):
 
 
 @njit(cache=True)
+def solve_stiffness(A, b):
+    """``A^{-1} b`` for the (3, 3) matrix ``A = diag(C) + H`` (``H`` the support function's
+    Hessian, positive semidefinite in exact arithmetic) and ``b`` (3,) or (3, k); where
+    round-off makes ``A`` exactly singular, the least-squares solution of least norm. The law
+    runs inside numba's parallel loops, which cannot carry the exception LAPACK's solve would
+    raise there."""
+    if np.linalg.det(A) != 0.0:
+        return np.linalg.solve(A, b)
+    return np.linalg.pinv(A) @ b
+
+
+@njit(cache=True)
 def _minimise(sigma_t, C, w, regions, counts, beta, acc):
     """Newton with backtracking on ``Phi(w)`` from a ``w`` with ``Phi < 0``; returns the
     minimiser, ``acc`` the support terms there."""
@@ -326,7 +338,7 @@ def _minimise(sigma_t, C, w, regions, counts, beta, acc):
     for _ in range(NEWTON_ITERATIONS):
         if size <= 1e-13 * scale:
             break
-        step = -np.linalg.solve(np.diag(C) + acc[4:13].reshape((3, 3)), res)
+        step = -solve_stiffness(np.diag(C) + acc[4:13].reshape((3, 3)), res)
         slope = res @ step
         length = 1.0
         moved = False
@@ -469,7 +481,7 @@ def project(sigma_t, C, regions, counts, beta, band, out_s, out_A, out_B, out_G)
         w = _minimise(sigma_t, C, psi * d, regions, counts, beta, acc)
         out_s[:] = acc[1:4]
         # B = C (C + H)^{-1}; H is symmetric
-        out_B[:, :] = np.linalg.solve(np.diag(C) + acc[4:13].reshape((3, 3)), np.diag(C)).T
+        out_B[:, :] = solve_stiffness(np.diag(C) + acc[4:13].reshape((3, 3)), np.diag(C)).T
     else:
         # on the boundary to within the band: the trial, with the tangent of continued flow
         # (the limit of C (C + H / s)^{-1} as s -> 0: H has the null vector d)

@@ -321,3 +321,21 @@ def _law_normal_force(poly, sigma):
     motion = np.array([sigma[0] / KN, sigma[2] / KN, -sigma[1] / KN])
     stress_resultants(motion, p, len(p), np.array([KN, KN]), np.array([0.0, np.inf, 0.0]), f, D)
     return f[0]
+
+
+def test_the_stiffness_solve_of_the_projection_never_raises():
+    """diag(C) + H made exactly singular by round-off: the least-norm least-squares solution
+    (numpy's lstsq), not LAPACK's exception, which numba cannot carry out of a parallel loop;
+    a regular matrix is solved as it is."""
+    from dem.kernels.friction_domain import solve_stiffness
+
+    singular = np.array([[2.0, 1.0, 0.0], [1.0, 0.5, 0.0], [0.0, 0.0, 3.0]])
+    b = np.array([1.0, 2.0, 3.0])
+    expected = np.linalg.lstsq(singular, b, rcond=None)[0]
+    np.testing.assert_allclose(solve_stiffness(singular, b), expected, rtol=1e-12)
+    rhs = np.diag([1.0, 2.0, 3.0])
+    np.testing.assert_allclose(
+        solve_stiffness(singular, rhs), np.linalg.lstsq(singular, rhs, rcond=None)[0], rtol=1e-12
+    )
+    regular = singular + np.eye(3)
+    np.testing.assert_allclose(solve_stiffness(regular, b), np.linalg.solve(regular, b), rtol=1e-14)

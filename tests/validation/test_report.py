@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import validation.__main__ as cli
-from validation.report import Row, output_dir, staged, write_results
+from validation.report import STAGING_PREFIX, Row, output_dir, staged, write_results
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -154,6 +154,18 @@ def test_staging_is_private_to_the_run(tmp_path):
         (stage / "sub" / "a.txt").write_text("a")
     assert (tmp_path / "sub" / "a.txt").read_text() == "a"
     assert os.listdir(tmp_path) == ["sub"]
+
+
+def test_a_case_clears_only_its_own_stale_staging(tmp_path):
+    """A case whose name starts another's ("tis-friction", "tis-friction-uq") removes its own
+    killed run's staging directory, not the other case's live one."""
+    other = tmp_path / f"{STAGING_PREFIX}fake-uq-4242"
+    other.mkdir()
+    (other / "runs.jsonl").write_text("{}\n")
+    killed = tmp_path / f"{STAGING_PREFIX}fake-4343"
+    killed.mkdir()
+    with staged("fake", tmp_path):
+        assert (other / "runs.jsonl").exists() and not killed.exists()
 
 
 # -- rows with error bars ----------------------------------------------------------------------

@@ -349,6 +349,31 @@ def test_cases_on_a_cluster_write_the_serial_results(tmp_path, cluster):
         ]
 
 
+def test_a_case_that_needs_the_main_thread_runs_there_beside_the_cluster(
+    tmp_path, cluster, monkeypatch
+):
+    """crosscheck-examples' 3D export needs a main thread, which a worker's task has not."""
+    import threading
+
+    import validation.catalogue as catalogue
+    import validation.cluster as runner
+
+    threads = []
+
+    def probe(quick):
+        threads.append(threading.current_thread() is threading.main_thread())
+        return []
+
+    monkeypatch.setitem(catalogue.CASES, "main-thread-probe", probe)
+    monkeypatch.setattr(runner, "MAIN_THREAD_CASES", frozenset({"main-thread-probe"}))
+    assert "crosscheck-examples" in catalogue.MAIN_THREAD_CASES
+    names = ["geometry", "main-thread-probe"]
+    address = cluster.scheduler.address
+    done = list(runner.run_cases_on_cluster(names, True, scheduler=address, out_dir=tmp_path))
+    assert sorted(n for n, _, exc in done if exc is None) == sorted(names)
+    assert threads == [True]
+
+
 def _numba_threads(params, seed):
     import numba
 

@@ -142,3 +142,5 @@ def run(quick: bool = True, out_root: Path | None = None):
 
 
 CASES = {"crosscheck-examples": run}
+MAIN_THREAD = ("crosscheck-examples",)  # the 3D view's export starts trame's server, whose
+# event loop installs signal handlers: only a main thread may
