@@ -69,6 +69,8 @@ def run_cases_on_cluster(
         from distributed import as_completed
 
         token = uuid.uuid4().hex[:8]  # keys stay unique on a shared cluster
+        expected = expected_s or {}
+        priority = {n: _priority(n, expected) for n in names if n not in MAIN_THREAD_CASES}
         futures = {
             ex.client.submit(
                 run_case_task,
@@ -77,10 +79,9 @@ def run_cases_on_cluster(
                 out_dir,
                 pure=False,
                 key=f"case-{token}-{name}",
-                priority=_priority(name, expected_s or {}),
+                priority=priority[name],
             ): name
-            for name in sorted(names, key=lambda n: _priority(n, expected_s or {}), reverse=True)
-            if name not in MAIN_THREAD_CASES
+            for name in sorted(priority, key=priority.get, reverse=True)
         }
         here = [name for name in names if name in MAIN_THREAD_CASES]
         yield from _run_here(run_case_task, here, quick, out_dir)
