@@ -11,9 +11,12 @@ thickness apart at the start.
   ``FACE_ANGLE_DEG`` of anti-parallel, overlapping it in projection and within ``margin`` of
   its plane) gets nodes in the requested layout.
 - Every other face of a block that counts against some block (an **exposed face**) gets nodes
-  in the centroid layout: no node on an edge, so at rest an exposed face carries only the part
-  of a neighbour's penalty deflection that reaches past its edge onto it (a node of a cell cut
-  by a slanted edge can lie close to that edge), a sliver beside the interface.
+  in the vertex layout, those on or near its edges pulled to ``EXPOSED_INSET_MARGINS`` margins
+  (at most half a spacing) inside them, tributary areas unchanged
+  (:func:`pull_inside`): near enough to an edge to meet a feature of another block that
+  crosses it before the overlap outgrows the margin, and clear of the penalty deflection of an
+  interface that shares the edge (micrometres under a sound stiffness), which the nodes
+  would otherwise count a second time.
 - A free block's upward face under the indenter's path (a vertical line, within the tip radius
   plus ``margin``) gets indenter nodes as well; those act against the indenter only.
 
@@ -62,6 +65,10 @@ FACE_ANGLE_DEG = 20.0
 MIN_TOUCH_FRACTION = 0.05
 """Faces touch when the part of their overlap within the margin is at least this fraction of the
 smaller face (pinwheel corners of diagonal TIS neighbours meet along a line only)."""
+EXPOSED_INSET_MARGINS = 2.0
+"""Nodes of exposed faces stand this many margins (at most half the node spacing) inside the
+face's edges (module docstring): beyond the margin of a neighbour that shares the edge, so
+that they make no contact entries at rest."""
 MAX_GRID_CELLS = 5_000_000
 """Most grid cells seeded on one face (about 1 GB of scratch arrays); more is refused."""
 
@@ -426,8 +433,8 @@ def seed_contact_nodes(
 ) -> ContactNodes:
     """Seed nodes on the faces of the blocks that count contacts, and under the indenter.
 
-    Interface faces get ``layout``, the other faces of a counting block the centroid layout
-    (module docstring).
+    Interface faces get ``layout``, the other faces of a counting block the vertex layout
+    pulled inside their edges (module docstring).
 
     Parameters
     ----------
@@ -467,7 +474,8 @@ def seed_contact_nodes(
     weight, seeded = _count_once(assembly, fixed, margin)
     interface = _face_nodes(assembly, seeded, spacing, layout, check_reach=True)
     exposed = _face_nodes(assembly, _exposed_faces(assembly, weight, seeded), spacing,
-                          "centroid", check_reach=False)  # fmt: skip
+                          "vertex", check_reach=False,
+                          inset=min(EXPOSED_INSET_MARGINS * margin, 0.5 * spacing))  # fmt: skip
     faces = tuple(i + e for i, e in zip(interface, exposed, strict=True))
     indenter: tuple = ([], [], [])
     if indenter_axis_xy is not None:
@@ -532,6 +540,57 @@ def _count_once(assembly: Assembly, fixed: np.ndarray, margin: float):
     return weight, seeded
 
 
+def pull_inside(polygon: np.ndarray, normal: np.ndarray, points: np.ndarray,
+                inset: float) -> np.ndarray:  # fmt: skip
+    """Points of a convex face moved to the nearest point at least ``inset`` inside its edges.
+
+    Parameters
+    ----------
+    polygon : (k, 3) float
+        Corners, counter-clockwise about ``normal`` [m].
+    normal : (3,) float
+        Outward unit normal.
+    points : (m, 3) float
+        Points on the face [m].
+    inset : float
+        [m].
+
+    Returns
+    -------
+    (m, 3) float
+        Points inside the face shrunk by ``inset`` (every edge moved in by it) stay; the others
+        go to its nearest point (a point on an edge moves ``inset`` along the edge's inward
+        normal). On a face narrower than ``2 inset`` every point goes to the face's centroid.
+    """
+    u, v = _face_frame(polygon, normal)
+    origin = polygon[0]
+    poly2 = np.column_stack([(polygon - origin) @ u, (polygon - origin) @ v])
+    p2 = np.column_stack([(points - origin) @ u, (points - origin) @ v])
+    edge = np.roll(poly2, -1, axis=0) - poly2
+    inward = np.column_stack([-edge[:, 1], edge[:, 0]]) / np.linalg.norm(edge, axis=1)[:, None]
+    shrunk = poly2
+    for k in range(len(poly2)):  # keep inward . (p - corner_k) >= inset
+        shrunk = _clip_halfplane(shrunk, -inward[k, 0], -inward[k, 1],
+                                 -(inward[k] @ poly2[k] + inset))  # fmt: skip
+        if len(shrunk) < 3:
+            centroid = polygon_properties(poly2)[1]
+            return np.repeat((origin + centroid[0] * u + centroid[1] * v)[None, :],
+                             len(points), axis=0)  # fmt: skip
+    outside = ((p2 - poly2[:, None, :]) * inward[:, None, :]).sum(axis=2).min(axis=0) < inset
+    for i in np.flatnonzero(outside):
+        p2[i] = _nearest_on_boundary(shrunk, p2[i])
+    return origin + p2[:, :1] * u + p2[:, 1:] * v
+
+
+def _nearest_on_boundary(poly: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """(2,) nearest point to ``point`` (2,) on the boundary of the polygon ``poly`` (k, 2)."""
+    start = poly
+    edge = np.roll(poly, -1, axis=0) - poly
+    t = np.clip(((point - start) * edge).sum(axis=1) / (edge * edge).sum(axis=1), 0.0, 1.0)
+    foot = start + t[:, None] * edge
+    return foot[np.argmin(np.linalg.norm(foot - point, axis=1))]
+
+
 def _exposed_faces(assembly: Assembly, weight: np.ndarray, seeded: set) -> set:
     """``(block, face)`` of every face of a block that counts against some block (a positive
     row of ``weight``) and is not one of its ``seeded`` interface faces."""
@@ -541,11 +600,12 @@ def _exposed_faces(assembly: Assembly, weight: np.ndarray, seeded: set) -> set:
 
 
 def _face_nodes(assembly: Assembly, faces: set, spacing: float, layout: str,
-                check_reach: bool) -> tuple:  # fmt: skip
+                check_reach: bool, inset: float = 0.0) -> tuple:  # fmt: skip
     """Nodes of ``faces`` (a set of ``(block, face)``), in ``(block, face)`` order: lists of
     per-face arrays of blocks, points, normals, areas, global faces and patches
-    (:func:`node_patches`); ``check_reach``: refuse or log faces whose nodes fall short of
-    their edges (:func:`_warn_short_reach`)."""
+    (:func:`node_patches`, of the nodes where :func:`seed_face` put them); ``check_reach``:
+    refuse or log faces whose nodes fall short of their edges (:func:`_warn_short_reach`);
+    ``inset`` [m]: nodes nearer an edge are pulled inside (:func:`pull_inside`)."""
     arrays = assembly.arrays
     blocks_l, points_l, normals_l, areas_l, faces_l, patches_l = [], [], [], [], [], []
     short = []  # (reach, block, face) of faces whose nodes fall short of their edges
@@ -557,7 +617,7 @@ def _face_nodes(assembly: Assembly, faces: set, spacing: float, layout: str,
         if check_reach and reach < MIN_REACH:
             short.append((reach, owner, face))
         blocks_l.append(np.full(len(areas), owner, dtype=np.int64))
-        points_l.append(pts)
+        points_l.append(pull_inside(polygon, blk.normals[face], pts, inset) if inset > 0 else pts)
         normals_l.append(np.repeat(blk.normals[face][None, :], len(areas), axis=0))
         areas_l.append(areas)
         faces_l.append(np.full(len(areas), arrays.face_ptr[owner] + face, dtype=np.int64))
