@@ -1,11 +1,24 @@
-"""Surface contact nodes with tributary areas, seeded only where contact can happen.
+"""Surface contact nodes with tributary areas on every face that can meet another block.
 
-A face of a block gets nodes when it can touch something:
+Which block's nodes count a contact between two blocks is decided per pair of blocks
+(``weight[a, b]``, below); the block that counts carries nodes on all of its faces, so a
+contact between any of its faces and any feature of the other block (a face, an edge, a corner)
+is represented, also one that appears only after large motions: a block sliding out of a panel
+ends with its top edge against its neighbour's bottom edge, faces that were a block's
+thickness apart at the start.
 
-- a face of another block lies opposite to it (normals within ``FACE_ANGLE_DEG`` of
-  anti-parallel), overlaps it in projection and is within ``margin`` of its plane; or
-- it faces up and lies under the indenter's path (a vertical line, within the tip radius plus
-  ``margin``); those nodes act against the indenter only.
+- An **interface face** (a face with a face of another block opposite to it, normals within
+  ``FACE_ANGLE_DEG`` of anti-parallel, overlapping it in projection and within ``margin`` of
+  its plane) gets nodes in the requested layout.
+- Every other face of a block that counts against some block (an **exposed face**) gets nodes
+  in the vertex layout, those on or near its edges pulled to ``EXPOSED_INSET_MARGINS`` margins
+  (at most half a spacing) inside them, tributary areas unchanged
+  (:func:`pull_inside`): near enough to an edge to meet a feature of another block that
+  crosses it before the overlap outgrows the margin, and clear of the penalty deflection of an
+  interface that shares the edge (micrometres under a sound stiffness), which the nodes
+  would otherwise count a second time.
+- A free block's upward face under the indenter's path (a vertical line, within the tip radius
+  plus ``margin``) gets indenter nodes as well; those act against the indenter only.
 
 Each face is covered by a square grid of spacing ``h`` aligned with its longest edge; every grid
 cell is clipped exactly to the face polygon, and its area goes either to a node at its centroid
@@ -13,13 +26,21 @@ or in equal shares to nodes at its corners (see :func:`seed_face`), so the tribu
 face sum to the face area exactly and a uniform penetration ``d`` gives the force
 ``k_n d A_face`` at any ``h``.
 
-**Counting each interface once.** For a pair of blocks ``(a, b)`` that share touching faces
-(an interface), nodes are seeded on one side only: the narrower of the two faces (ties: the
-free block, then the lower index). The weight matrix ``weight[a, b]`` is 1 for the seeded side
-and 0 for the other, so block ``b``'s nodes elsewhere never act against ``a``. Pairs without an
-interface in the reference configuration (contacts that appear only after large motions, e.g.
-diagonal TIS neighbours at the pinwheel corners) use halving: nodes of either block act against
-the other with weight 1/2. Two fixed blocks never interact (weight 0).
+**Counting each contact once.** A contact between blocks ``a`` and ``b`` carries the force of
+``a``'s nodes inside ``b`` times ``weight[a, b]`` plus that of ``b``'s nodes inside ``a`` times
+``weight[b, a]``; the two weights add up to 1 and hold for every face of the pair:
+
+- a pair that shares an interface in the reference configuration counts on one side only: the
+  block whose interface face is the narrower (ties: the free block, then the lower index) gets
+  ``weight = 1``, the other 0. Its nodes on the interface face carry the interface; its nodes
+  on its other faces carry whatever else of the two blocks meets later.
+- a free block and a fixed one without an interface: the free block counts (1 and 0), so that
+  fixed blocks (supports, often large) carry nodes only where they are the narrower side of an
+  interface;
+- two free blocks without an interface (contacts that appear only after large motions, e.g.
+  diagonal TIS neighbours at the pinwheel corners) use halving: nodes of either block act
+  against the other with weight 1/2;
+- two fixed blocks never interact (weight 0).
 """
 
 from __future__ import annotations
@@ -44,6 +65,10 @@ FACE_ANGLE_DEG = 20.0
 MIN_TOUCH_FRACTION = 0.05
 """Faces touch when the part of their overlap within the margin is at least this fraction of the
 smaller face (pinwheel corners of diagonal TIS neighbours meet along a line only)."""
+EXPOSED_INSET_MARGINS = 2.0
+"""Nodes of exposed faces stand this many margins (at most half the node spacing) inside the
+face's edges (module docstring): beyond the margin of a neighbour that shares the edge, so
+that they make no contact entries at rest."""
 MAX_GRID_CELLS = 5_000_000
 """Most grid cells seeded on one face (about 1 GB of scratch arrays); more is refused."""
 
@@ -406,7 +431,10 @@ def seed_contact_nodes(
     indenter_spacing: float | None = None,
     layout: str = "centroid",
 ) -> ContactNodes:
-    """Seed nodes on every face that can touch a neighbour or the indenter.
+    """Seed nodes on the faces of the blocks that count contacts, and under the indenter.
+
+    Interface faces get ``layout``, the other faces of a counting block the vertex layout
+    pulled inside their edges (module docstring).
 
     Parameters
     ----------
@@ -424,7 +452,7 @@ def seed_contact_nodes(
     indenter_spacing : float, optional
         Node spacing on the faces under the indenter [m] (default ``spacing``).
     layout : {"centroid", "vertex"}
-        Node layout on each face, see :func:`seed_face`.
+        Node layout on the interface faces and under the indenter, see :func:`seed_face`.
 
     Returns
     -------
@@ -433,7 +461,7 @@ def seed_contact_nodes(
     Raises
     ------
     ValueError
-        Bad ``fixed`` or ``margin``, a contact face with nodes on one point or one row, or a
+        Bad ``fixed`` or ``margin``, an interface face with nodes on one point or one row, or a
         face grid of more than ``MAX_GRID_CELLS`` cells (only the cells within the indenter's
         reach count on faces under it).
     """
@@ -444,7 +472,11 @@ def seed_contact_nodes(
     if not margin > 0:
         raise ValueError(f"margin must be positive [m], got {margin}")
     weight, seeded = _count_once(assembly, fixed, margin)
-    faces = _face_nodes(assembly, seeded, spacing, layout)
+    interface = _face_nodes(assembly, seeded, spacing, layout, check_reach=True)
+    exposed = _face_nodes(assembly, _exposed_faces(assembly, weight, seeded), spacing,
+                          "vertex", check_reach=False,
+                          inset=min(EXPOSED_INSET_MARGINS * margin, 0.5 * spacing))  # fmt: skip
+    faces = tuple(i + e for i, e in zip(interface, exposed, strict=True))
     indenter: tuple = ([], [], [])
     if indenter_axis_xy is not None:
         axis = np.asarray(indenter_axis_xy, dtype=float)
@@ -475,13 +507,17 @@ def _cat(parts: list, empty_shape: tuple, dtype=np.float64) -> np.ndarray:
 
 
 def _count_once(assembly: Assembly, fixed: np.ndarray, margin: float):
-    """The counting weights (n_blocks, n_blocks) and the seeded ``(block, face)`` set: each
-    interface counted on one side (module docstring)."""
+    """The counting weights (n_blocks, n_blocks) and the seeded interface faces, a set of
+    ``(block, face)``: each pair of blocks counted on one side or halved (module docstring)."""
     n_blocks = assembly.n_blocks
     weight = np.full((n_blocks, n_blocks), 0.5)
-    np.fill_diagonal(weight, 0.0)
+    free = ~fixed
+    weight[np.ix_(free, fixed)] = 1.0
+    weight[np.ix_(fixed, free)] = 0.0
     weight[np.ix_(fixed, fixed)] = 0.0
+    np.fill_diagonal(weight, 0.0)
     seeded: set[tuple[int, int]] = set()
+    counter: dict[tuple[int, int], int] = {}  # (a, b) with a < b -> the block that counts
     for a, fa, b, fb in _touching_face_pairs(assembly, margin):
         if fixed[a] and fixed[b]:
             continue
@@ -494,32 +530,94 @@ def _count_once(assembly: Assembly, fixed: np.ndarray, margin: float):
             side_a = not fixed[a]
         else:
             side_a = True
-        owner, face, other = (a, fa, b) if side_a else (b, fb, a)
-        if weight[owner, other] == 0.0 and weight[other, owner] == 1.0:
-            # the pair already counts on the other side: seed there too for coverage
-            owner, other = other, owner
-            face = fb if owner == b else fa
+        # a pair with several touching faces counts on the side its first interface chose,
+        # and seeds the face on that side for coverage
+        owner = counter.setdefault((a, b), a if side_a else b)
+        other, face = (b, fa) if owner == a else (a, fb)
         weight[owner, other] = 1.0
         weight[other, owner] = 0.0
         seeded.add((owner, face))
     return weight, seeded
 
 
-def _face_nodes(assembly: Assembly, seeded: set, spacing: float, layout: str) -> tuple:
-    """Nodes of the seeded faces, in ``(block, face)`` order: lists of per-face arrays of
-    blocks, points, normals, areas, global faces and patches (:func:`node_patches`)."""
+def pull_inside(polygon: np.ndarray, normal: np.ndarray, points: np.ndarray,
+                inset: float) -> np.ndarray:  # fmt: skip
+    """Points of a convex face moved to the nearest point at least ``inset`` inside its edges.
+
+    Parameters
+    ----------
+    polygon : (k, 3) float
+        Corners, counter-clockwise about ``normal`` [m].
+    normal : (3,) float
+        Outward unit normal.
+    points : (m, 3) float
+        Points on the face [m].
+    inset : float
+        [m].
+
+    Returns
+    -------
+    (m, 3) float
+        Points inside the face shrunk by ``inset`` (every edge moved in by it) stay; the others
+        go to its nearest point (a point on an edge moves ``inset`` along the edge's inward
+        normal). On a face narrower than ``2 inset`` every point goes to the face's centroid.
+    """
+    u, v = _face_frame(polygon, normal)
+    origin = polygon[0]
+    poly2 = np.column_stack([(polygon - origin) @ u, (polygon - origin) @ v])
+    p2 = np.column_stack([(points - origin) @ u, (points - origin) @ v])
+    edge = np.roll(poly2, -1, axis=0) - poly2
+    inward = np.column_stack([-edge[:, 1], edge[:, 0]]) / np.linalg.norm(edge, axis=1)[:, None]
+    shrunk = poly2
+    for k in range(len(poly2)):  # keep inward . (p - corner_k) >= inset
+        shrunk = _clip_halfplane(shrunk, -inward[k, 0], -inward[k, 1],
+                                 -(inward[k] @ poly2[k] + inset))  # fmt: skip
+        if len(shrunk) < 3:
+            centroid = polygon_properties(poly2)[1]
+            return np.repeat((origin + centroid[0] * u + centroid[1] * v)[None, :],
+                             len(points), axis=0)  # fmt: skip
+    outside = ((p2 - poly2[:, None, :]) * inward[:, None, :]).sum(axis=2).min(axis=0) < inset
+    for i in np.flatnonzero(outside):
+        p2[i] = _nearest_on_boundary(shrunk, p2[i])
+    return origin + p2[:, :1] * u + p2[:, 1:] * v
+
+
+def _nearest_on_boundary(poly: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """(2,) nearest point to ``point`` (2,) on the boundary of the polygon ``poly`` (k, 2)."""
+    start = poly
+    edge = np.roll(poly, -1, axis=0) - poly
+    t = np.clip(((point - start) * edge).sum(axis=1) / (edge * edge).sum(axis=1), 0.0, 1.0)
+    foot = start + t[:, None] * edge
+    return foot[np.argmin(np.linalg.norm(foot - point, axis=1))]
+
+
+def _exposed_faces(assembly: Assembly, weight: np.ndarray, seeded: set) -> set:
+    """``(block, face)`` of every face of a block that counts against some block (a positive
+    row of ``weight``) and is not one of its ``seeded`` interface faces."""
+    counting = np.flatnonzero(weight.max(axis=1) > 0.0)
+    return {(int(i), f) for i in counting for f in range(len(assembly.blocks[i].faces))
+            if (int(i), f) not in seeded}  # fmt: skip
+
+
+def _face_nodes(assembly: Assembly, faces: set, spacing: float, layout: str,
+                check_reach: bool, inset: float = 0.0) -> tuple:  # fmt: skip
+    """Nodes of ``faces`` (a set of ``(block, face)``), in ``(block, face)`` order: lists of
+    per-face arrays of blocks, points, normals, areas, global faces and patches
+    (:func:`node_patches`, of the nodes where :func:`seed_face` put them); ``check_reach``:
+    refuse or log faces whose nodes fall short of their edges (:func:`_warn_short_reach`);
+    ``inset`` [m]: nodes nearer an edge are pulled inside (:func:`pull_inside`)."""
     arrays = assembly.arrays
     blocks_l, points_l, normals_l, areas_l, faces_l, patches_l = [], [], [], [], [], []
     short = []  # (reach, block, face) of faces whose nodes fall short of their edges
-    for owner, face in sorted(seeded):
+    for owner, face in sorted(faces):
         blk = assembly.blocks[owner]
         polygon = blk.vertices[blk.faces[face]]
         pts, areas = seed_face(polygon, blk.normals[face], spacing, layout)
         reach = node_reach(polygon, blk.normals[face], pts)
-        if reach < MIN_REACH:
+        if check_reach and reach < MIN_REACH:
             short.append((reach, owner, face))
         blocks_l.append(np.full(len(areas), owner, dtype=np.int64))
-        points_l.append(pts)
+        points_l.append(pull_inside(polygon, blk.normals[face], pts, inset) if inset > 0 else pts)
         normals_l.append(np.repeat(blk.normals[face][None, :], len(areas), axis=0))
         areas_l.append(areas)
         faces_l.append(np.full(len(areas), arrays.face_ptr[owner] + face, dtype=np.int64))

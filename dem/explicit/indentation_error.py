@@ -116,6 +116,11 @@ def indentation_estimates(
         if not other.peak_reached:
             logger.warning("the %s rerun did not reach the peak: that source is unbounded",
                            source)  # fmt: skip
+        stop = getattr(other, "info", {}).get("stopped_by", "")
+        if stop and not math.isfinite(other.ultimate_deflection):
+            logger.warning("the %s rerun stopped before its block got out, so its sources of "
+                           "the ultimate deflection and the loading energy are unbounded: %s",
+                           source, stop)  # fmt: skip
         for name in QUANTITIES:
             width = HALVED_RERUN_FACTOR * abs(_rerun_value(other, name) - values[name])
             sources[name][source] = width if math.isfinite(width) else math.inf

@@ -308,12 +308,13 @@ class ExplicitModel:
         if depth > allowed:
             raise UnmodelledContactError(
                 f"blocks {a} and {b} overlap by {depth:.3e} m at t = {self.t:.6e} s (at most "
-                f"{allowed:.3e} m is a contact the model represents): they met where the model "
-                "has no contact nodes (nodes are seeded only on faces within "
-                f"ExplicitSettings.margin = {self.settings.margin:.3e} m of another block at "
-                "the start: a larger margin seeds more faces), or the contact stiffness k_n is "
-                "far too low for the load, and they are passing through each other. The run "
-                "stops here: from this point its results would be wrong"
+                f"{allowed:.3e} m is a contact the model represents): no contact node of the "
+                "block that counts their contact lies inside the other (a corner or edge that "
+                "came in between the nodes: refine ExplicitSettings.node_spacing; fixed blocks "
+                "carry nodes only where they are the narrower side of an interface), or the "
+                "contact stiffness k_n is far too low for the load, and they are passing "
+                "through each other. The run stops here: from this point its results would be "
+                "wrong"
             )
 
     def _new_scratch(self) -> None:

@@ -129,8 +129,9 @@ def choose_time_step(omega_max: float, settings) -> dict:
         out["dt"] = settings.dt_safety * out["dt_critical"]
     else:
         raise ValueError(
-            "no contact stiffness in the scene: no two blocks have touching faces (contact "
-            "nodes are seeded only on faces that touch at the start; blocks that meet at an "
-            "edge or a corner get none); for blocks in free flight give ExplicitSettings.dt"
+            "no contact stiffness in the scene: no contact node lies within "
+            "ExplicitSettings.margin of another block at the start, so no contact sets the "
+            "time step; for blocks in free flight give ExplicitSettings.dt (below 2 / omega "
+            "of the stiffest contact they will meet)"
         )
     return out

@@ -1,14 +1,17 @@
-"""Contacts the explicit model does not represent: blocks that meet where no node was seeded.
+"""Contacts the explicit model does not represent: blocks that pass through each other.
 
-Contact nodes are seeded only on faces that touch in the initial configuration
-(:func:`dem.contact_nodes.seed_contact_nodes`). Two blocks that start apart, or meet with faces
-that did not touch, have no node between them and would pass through each other without a
-force. At every neighbour-list rebuild each pair of nearby blocks gets a separating-axis test
-(face normals of both blocks and cross products of their edges: exact for convex polyhedra):
-its penetration depth is the least distance that separates the two blocks' projections
-(:func:`dem.geometry.polyhedron.penetration_depth`, posed). A pair with no
-contact entry may overlap by at most the neighbour-list margin; a pair with entries by the
-penalty deflection, which a sound stiffness keeps far below ``OVERLAP_LIMIT`` times the thinner
+The block that counts the contact of a pair carries contact nodes on all of its faces
+(:func:`dem.contact_nodes.seed_contact_nodes`), so any feature of the other block that comes
+into it meets nodes, within the node spacing: an edge or a corner that presses into one of its
+faces between two nodes goes in by up to about half a spacing (times the tangent of the angle
+of the wedge) before a node lies inside it. What is left unrepresented: two fixed blocks, and a
+motion that carries a block through the other faster, or against a softer contact, than the
+penalty can stop. At every neighbour-list rebuild each pair of nearby blocks gets a
+separating-axis test (face normals of both blocks and cross products of their edges: exact for
+convex polyhedra): its penetration depth is the least distance that separates the two blocks'
+projections (:func:`dem.geometry.polyhedron.penetration_depth`, posed). A pair with no contact
+entry may overlap by at most the neighbour-list margin; a pair with entries by the penalty
+deflection, which a sound stiffness keeps far below ``OVERLAP_LIMIT`` times the thinner
 block's thickness (entries can exist between blocks that meet elsewhere, e.g. nodes of a block's
 base within the margin of a neighbour's base plane). Beyond that, the overlap is not one the
 run represents, and the run stops naming the pair instead of going on with blocks inside each

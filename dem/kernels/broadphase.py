@@ -4,7 +4,10 @@ An entry ``(i, b)`` is kept when node ``i`` (of block ``a``) lies within ``margi
 ``b``'s face planes, ``max_f (n_f . X - d_f) < margin`` (a lower bound on the distance, so no
 contact is missed), and the counting weight ``weight[a, b]`` is non-zero. The list stays valid
 while no block has moved more than ``margin / 2`` (translation plus rotation times its bounding
-radius) since it was built: two blocks then approach each other by at most ``margin``.
+radius) since it was built: two blocks then approach each other by at most ``margin``. A node
+is tested only against the blocks whose bounding spheres come within ``margin`` of its own
+block's (:func:`near_blocks`): a rebuild costs the nodes times their block's neighbours, not
+times every block.
 
 Entries are sorted by node, then block, which lets the shear history of entries that survive a
 rebuild be carried over by a merge.
@@ -29,7 +32,7 @@ def _node_world(i, node_block, node_r0, pos, rot):
 
 
 @njit(cache=True)
-def node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, out_blocks):
+def node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, near, out_blocks):
     """Neighbour blocks of node ``i`` within ``margin``, written to ``out_blocks``; returns count.
 
     Parameters
@@ -37,8 +40,7 @@ def node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, out_blocks)
     i : int
         Node index.
     nodes : Nodes
-        ``block``, ``r0`` (offsets from the owner's centroid, reference frame [m]) and the
-        counting ``weight`` (n_blocks, n_blocks) of nodes of ``a`` against ``b``.
+        ``block`` and ``r0`` (offsets from the owner's centroid, reference frame [m]).
     pos : (n_blocks, 3) float64
         Centroids [m].
     rot : (n_blocks, 3, 3) float64
@@ -49,18 +51,20 @@ def node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, out_blocks)
         Reference-frame face planes (CSR by block).
     margin : float
         [m].
+    near : ((n_blocks + 1,) int64, (k,) int64)
+        The candidate blocks of each block, CSR (:func:`near_blocks`).
     out_blocks : (n_blocks,) int64
         Scratch output.
     """
-    node_block, node_r0, weight = nodes.block, nodes.r0, nodes.weight
+    node_block, node_r0 = nodes.block, nodes.r0
     ref_centroid, radius = bodies.ref_centroid, bodies.radius
     face_ptr, face_normal, face_offset = shapes.face_ptr, shapes.face_normal, shapes.face_offset
     a = node_block[i]
     x0, x1, x2 = _node_world(i, node_block, node_r0, pos, rot)
     count = 0
-    for b in range(pos.shape[0]):
-        if b == a or weight[a, b] == 0.0:
-            continue
+    near_ptr, near_block = near
+    for k in range(near_ptr[a], near_ptr[a + 1]):
+        b = near_block[k]
         dx = x0 - pos[b, 0]
         dy = x1 - pos[b, 1]
         dz = x2 - pos[b, 2]
@@ -78,10 +82,53 @@ def node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, out_blocks)
 
 
 @njit(cache=True)
+def near_blocks(pos, radius, weight, margin):
+    """The blocks each block's nodes can be within ``margin`` of: ``b != a`` with
+    ``weight[a, b] != 0`` whose bounding sphere comes within ``margin`` of ``a``'s (every node
+    of ``a`` lies in ``a``'s sphere, so no other block can be within ``margin`` of it).
+
+    Parameters
+    ----------
+    pos : (n_blocks, 3) float64
+        Centroids [m].
+    radius : (n_blocks,) float64
+        Bounding radii [m].
+    weight : (n_blocks, n_blocks) float64
+        Counting weights.
+    margin : float
+        [m].
+
+    Returns
+    -------
+    ptr : (n_blocks + 1,) int64
+    blocks : (k,) int64
+        Block ``a``'s candidates are ``blocks[ptr[a]:ptr[a + 1]]``, ascending.
+    """
+    n = pos.shape[0]
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    blocks = np.empty(n * n, dtype=np.int64)
+    k = 0
+    for a in range(n):
+        for b in range(n):
+            if b == a or weight[a, b] == 0.0:
+                continue
+            dx = pos[a, 0] - pos[b, 0]
+            dy = pos[a, 1] - pos[b, 1]
+            dz = pos[a, 2] - pos[b, 2]
+            reach = radius[a] + radius[b] + margin
+            if dx * dx + dy * dy + dz * dz <= reach * reach:
+                blocks[k] = b
+                k += 1
+        ptr[a + 1] = k
+    return ptr, blocks[:k]
+
+
+@njit(cache=True)
 def build_pairs(nodes, pos, rot, bodies, shapes, margin):
     """All entries within ``margin`` (two passes: count, then fill).
 
-    Parameters are those of :func:`node_candidate_count` without the node and scratch.
+    Parameters are those of :func:`node_candidate_count` without the node, the candidates
+    (made here, :func:`near_blocks`, from ``nodes.weight``) and the scratch.
 
     Returns
     -------
@@ -93,9 +140,11 @@ def build_pairs(nodes, pos, rot, bodies, shapes, margin):
     n_nodes = node_block.shape[0]
     n_blocks = pos.shape[0]
     scratch = np.empty(n_blocks, dtype=np.int64)
+    near = near_blocks(pos, bodies.radius, weight, margin)
     counts = np.zeros(n_nodes, dtype=np.int64)
     for i in range(n_nodes):
-        counts[i] = node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, scratch)
+        counts[i] = node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, near,
+                                         scratch)  # fmt: skip
     total = 0
     for i in range(n_nodes):
         total += counts[i]
@@ -106,7 +155,7 @@ def build_pairs(nodes, pos, rot, bodies, shapes, margin):
     for i in range(n_nodes):
         if counts[i] == 0:
             continue
-        c = node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, scratch)
+        c = node_candidate_count(i, nodes, pos, rot, bodies, shapes, margin, near, scratch)
         a = node_block[i]
         for j in range(c):
             pair_node[k] = i

@@ -232,3 +232,24 @@ def test_traction_law_touching_depth_carries_no_friction():
     d = 1e-9
     t, _ = traction_one(d, n, (10.0, 0.0, 0.0), (0.0, 0.0, 0.0), law, dt)
     np.testing.assert_allclose([t[0], t[2]], [-mu * k_n * (d - touch), k_n * d], rtol=1e-14)
+
+
+def test_pull_inside_moves_edge_nodes_by_the_inset_only():
+    """Square face [0, 1]^2 tilted into 3D: a node on an edge moves the inset along the edge's
+    inward normal, a corner node to the shrunk square's corner, an interior node stays; a face
+    narrower than twice the inset sends its nodes to its centroid."""
+    from dem.contact_nodes import pull_inside
+
+    n = np.array([1.0, 2.0, 2.0]) / 3.0
+    u = np.cross(n, [0.0, 0.0, 1.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=float)
+    to3 = lambda p: 0.2 * n + p[:, :1] * u + p[:, 1:] * v  # noqa: E731
+    nodes = np.array([[0.5, 0.0], [1.0, 0.3], [0.0, 0.0], [0.5, 0.5], [0.95, 0.5]])
+    moved = pull_inside(to3(square), n, to3(nodes), 0.1)
+    expected = np.array([[0.5, 0.1], [0.9, 0.3], [0.1, 0.1], [0.5, 0.5], [0.9, 0.5]])
+    np.testing.assert_allclose(moved, to3(expected), atol=1e-12)
+    strip = np.array([[0, 0], [1, 0], [1, 0.1], [0, 0.1]], dtype=float)
+    np.testing.assert_allclose(pull_inside(to3(strip), n, to3(nodes[:2]), 0.1),
+                               to3(np.array([[0.5, 0.05]] * 2)), atol=1e-12)  # fmt: skip

@@ -69,6 +69,29 @@ def test_a_rerun_whose_block_stays_in_leaves_the_loading_energy_unbounded():
     assert math.isinf(est["ultimate_deflection"].sources["loading rate"])
 
 
+def test_a_rerun_stopped_after_its_block_got_out_keeps_every_bar_finite(caplog):
+    """A rerun stopped at delta = 3 (blocks passing through each other after the block was
+    confirmed out at 1.95): its numbers are those of the whole curve, so every source is
+    finite (here 0); a rerun stopped at 1.5, before the block got out, leaves the ultimate
+    deflection and the loading energy unbounded and says why."""
+    from dem.explicit.indentation_error import indentation_estimates
+
+    h = 1e-3
+    full = _triangle(h)
+    indentation = IndentationSettings(record_interval=h)
+    for end, bounded in ((3.0, True), (1.5, False)):
+        cut = full.delta <= end
+        rerun = SimpleNamespace(info={"stopped_by": "blocks 1 and 2 overlap"},
+                                **curve_summary(full.delta[cut], full.load[cut], 0.05, 0.5))
+        caplog.clear()
+        est = indentation_estimates(lambda s, i, r=rerun: r, ExplicitSettings(k_n=1e9),
+                                    indentation, full, "cheap")  # fmt: skip
+        for name in ("loading_energy", "ultimate_deflection"):
+            width = est[name].sources["loading rate"]
+            assert width == 0.0 if bounded else math.isinf(width)
+        assert ("blocks 1 and 2 overlap" in caplog.text) is not bounded
+
+
 FAST = IndentationSettings(speed=50 * MM, max_deflection=0.15 * MM, record_interval=0.005 * MM)
 
 

@@ -125,17 +125,18 @@ def test_peak_reached_once_the_load_fell_below_the_drop_fraction(after_peak, rea
     assert curve_summary(delta, -load, 0.1, 3e-5)["peak_reached"] is False
 
 
-def test_cube_standing_on_an_edge_is_told_to_have_no_touching_faces():
-    """A cube turned 45 deg about x rests on one edge: no two faces touch, so no contact node
-    is seeded. The error names that cause (it used to ask for a time step only, and with one
-    the cube would have been called unsupported while it stands on the ground)."""
+def test_cube_standing_on_an_edge_is_told_no_node_is_near_the_ground():
+    """A cube turned 45 deg about x rests on one edge: no two faces touch, and the cube's
+    nodes lie off its edges, so no node is within the margin of the ground. The error names
+    that cause (it used to ask for a time step only, and with one the cube would have been
+    called unsupported while it stands on the ground)."""
     turn = (
         np.array([[1.0, 0.0, 0.0], [0.0, 1.0, -1.0], [0.0, 1.0, 1.0]]) / np.array([1, 2, 2]) ** 0.5
     )
     cube = box((-0.05, -0.05, -0.05), (0.05, 0.05, 0.05)) @ turn.T + (0.0, 0.0, 0.05 * 2**0.5)
     scene = Scene.from_convex_blocks([cube, box((-1, -1, -0.1), (1, 1, 0))], 2000.0,
                                      fixed=[1], mu=0.5)  # fmt: skip
-    with pytest.raises(ValueError, match="no two blocks have touching faces"):
+    with pytest.raises(ValueError, match="no contact node lies within .*margin"):
         ExplicitModel(scene, ExplicitSettings(k_n=1e10, node_spacing=0.01))
 
 

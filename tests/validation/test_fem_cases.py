@@ -15,6 +15,9 @@ def test_fem_patch_case_quick(tmp_path):
     # a priori: the cut error falls at least like h^p (P1: 1, P2: 2); 0.3 of slack for the
     # unstructured, non-nested meshes of three sizes
     assert rates["P1"] > 0.7 and rates["P2"] > 1.7
+    for row in rows:  # a rate of at least p is a bound, met within the fit's bar
+        if "observed rate" in row.quantity:
+            assert row.reference_kind == "lower bound" and row.reference_inside, row.quantity
     write_results("fem-patch", rows, quick=True, wall_s=0.0, out_dir=tmp_path)
 
 
