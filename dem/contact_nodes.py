@@ -208,10 +208,10 @@ def seed_face(
         areas = np.concatenate([np.full(int(inside.sum()), spacing * spacing)]
                                + [np.array([area]) for _, area, _ in pieces])  # fmt: skip
     else:
-        cells = [corners[k] for k in np.flatnonzero(inside)] + [piece for piece, _, _ in pieces]
-        if not cells:  # a window that misses the face
+        if not inside.any() and not pieces:  # a window that misses the face
             return np.zeros((0, 3)), np.zeros(0)
-        p2, areas = _vertex_nodes(cells, start, spacing)
+        p2, areas = _vertex_nodes(corners[inside], [piece for piece, _, _ in pieces], start,
+                                  spacing)  # fmt: skip
     return origin + p2[:, :1] * u + p2[:, 1:] * v, areas
 
 
@@ -276,11 +276,14 @@ def _edge_pieces(corners: np.ndarray, poly2: np.ndarray, spacing: float) -> list
     return pieces
 
 
-def _vertex_nodes(cells: list, start: np.ndarray, spacing: float) -> tuple:
-    """Nodes at the corners of ``cells`` (clipped cells (j, 2)), each corner taking an equal
-    share of every cell's area it belongs to: points (m, 2) [m] and areas (m,) [m^2]."""
-    corner_pts = np.concatenate(cells)
-    shares = np.concatenate([np.full(len(c), polygon_properties(c)[0] / len(c)) for c in cells])
+def _vertex_nodes(full: np.ndarray, pieces: list, start: np.ndarray, spacing: float) -> tuple:
+    """Nodes at the corners of the full cells ``full`` (m, 4, 2) and of the clipped cells
+    ``pieces`` ((j, 2) each), each corner taking an equal share of every cell's area it belongs
+    to: points (n, 2) [m] and areas (n,) [m^2]."""
+    corner_pts = np.concatenate([full.reshape(-1, 2)] + pieces)
+    shares = np.concatenate([np.full(4 * len(full), 0.25 * spacing * spacing)]
+                            + [np.full(len(c), polygon_properties(c)[0] / len(c))
+                               for c in pieces])  # fmt: skip
     # merge coincident corners of neighbouring cells
     key = np.round((corner_pts - start) / (1e-7 * spacing)).astype(np.int64)
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
@@ -577,18 +580,19 @@ def pull_inside(polygon: np.ndarray, normal: np.ndarray, points: np.ndarray,
             return np.repeat((origin + centroid[0] * u + centroid[1] * v)[None, :],
                              len(points), axis=0)  # fmt: skip
     outside = ((p2 - poly2[:, None, :]) * inward[:, None, :]).sum(axis=2).min(axis=0) < inset
-    for i in np.flatnonzero(outside):
-        p2[i] = _nearest_on_boundary(shrunk, p2[i])
+    p2[outside] = _nearest_on_boundary(shrunk, p2[outside])
     return origin + p2[:, :1] * u + p2[:, 1:] * v
 
 
-def _nearest_on_boundary(poly: np.ndarray, point: np.ndarray) -> np.ndarray:
-    """(2,) nearest point to ``point`` (2,) on the boundary of the polygon ``poly`` (k, 2)."""
-    start = poly
+def _nearest_on_boundary(poly: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(m, 2) nearest points to ``points`` (m, 2) on the boundary of the polygon ``poly``
+    (k, 2)."""
     edge = np.roll(poly, -1, axis=0) - poly
-    t = np.clip(((point - start) * edge).sum(axis=1) / (edge * edge).sum(axis=1), 0.0, 1.0)
-    foot = start + t[:, None] * edge
-    return foot[np.argmin(np.linalg.norm(foot - point, axis=1))]
+    rel = points[:, None, :] - poly[None, :, :]
+    t = np.clip((rel * edge).sum(axis=2) / (edge * edge).sum(axis=1), 0.0, 1.0)
+    foot = poly[None, :, :] + t[:, :, None] * edge[None, :, :]
+    best = np.argmin(np.linalg.norm(foot - points[:, None, :], axis=2), axis=1)
+    return foot[np.arange(len(points)), best]
 
 
 def _exposed_faces(assembly: Assembly, weight: np.ndarray, seeded: set) -> set:

@@ -161,8 +161,8 @@ def _curve_rows(label: str, res: IndentationResult, settings: dict, extra: dict)
     """Peak load, deflection at peak, loading energy and ultimate deflection of one run, each
     with the run's own error bar (``res.estimates``; the peak row's ``error_cost_s`` is the
     wall time of its reruns [s]); no ultimate deflection and no loading energy when the run
-    stopped before the block was out (blocks passing through each other where no contact node
-    was seeded, :mod:`dem.explicit.unmodelled`), :func:`loading_energy`."""
+    stopped before the block was out (blocks passing through each other further than their
+    contact represents, :mod:`dem.explicit.unmodelled`), :func:`loading_energy`."""
     wall = res.info["wall_s"]
     est = res.estimates
     extra = {**extra, "energy_over_work_max": energy_check(res),
