@@ -15,7 +15,8 @@ matrix permuted symmetrically by METIS nested dissection (pymetis); UMFPACK and 
 repeated on the kept analysis. A solver whose package is missing prints as such.
 
 ``--numba`` runs the factorisations while numba's threads evaluate the resultant law in a
-background thread (coexistence: no deadlock, the same solution).
+background thread (coexistence: no deadlock, the same solution); ``--threads`` sets the
+BLAS (MKL) threads (default 1, as ``solve_collapse`` pins them).
 
 Times are wall-clock on a shared machine: compare ratios within one run.
 """
@@ -34,6 +35,9 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from threadpoolctl import threadpool_limits
+
+from dem.static.pardiso import PardisoLU  # loads oneMKL now, so that the thread limit finds it
 
 REPEATS = 3
 
@@ -125,8 +129,6 @@ class Pardiso:
     then the numeric factorisation repeated on the kept analysis."""
 
     def run(self, A, b):
-        from dem.static.pardiso import PardisoLU
-
         def fresh():
             return PardisoLU().factor(A)
 
@@ -166,8 +168,9 @@ def _law_load(stop: threading.Event) -> int:
     return n
 
 
-def run_one(path: str, name: str, with_numba: bool) -> dict:
-    """One matrix by one solver in this process: times, fill, residual, peak memory."""
+def run_one(path: str, name: str, with_numba: bool, threads: int = 1) -> dict:
+    """One matrix by one solver in this process, with ``threads`` BLAS (MKL) threads: times,
+    fill, residual, peak memory."""
     A = sp.load_npz(path).tocsc()
     b = np.load(path.replace("/A_", "/b_").replace(".npz", ".npy"))
     stop, thread = threading.Event(), None
@@ -177,7 +180,8 @@ def run_one(path: str, name: str, with_numba: bool) -> dict:
         time.sleep(5.0)  # the law compiled or loaded and running
     base = _peak_mib()
     try:
-        row = SOLVERS[name].run(A, b)
+        with threadpool_limits(limits=threads, user_api="blas"):  # as solve_collapse pins them
+            row = SOLVERS[name].run(A, b)
     except ImportError as exc:
         return {"solver": name, "error": f"missing: {exc}"}
     except Exception as exc:  # a solver's failure is a row of the table, not a crash
@@ -191,14 +195,14 @@ def run_one(path: str, name: str, with_numba: bool) -> dict:
     return {"solver": name, "n": A.shape[0], "nnz": int(A.nnz), **row}
 
 
-def bench(files, names, with_numba: bool) -> None:
+def bench(files, names, with_numba: bool, threads: int = 1) -> None:
     print(f"{'matrix':>16s} {'n':>6s} {'nnz':>8s} {'solver':>15s} {'factor ms':>10s} "
           f"{'numeric ms':>10s} {'solve ms':>9s} {'fill':>10s} {'residual':>9s} "
           f"{'MiB':>6s}")  # fmt: skip
     for path in files:
         for name in names:
             cmd = [sys.executable, __file__, "one", path, name]
-            cmd += ["--numba"] if with_numba else []
+            cmd += ["--threads", str(threads)] + (["--numba"] if with_numba else [])
             out = subprocess.run(cmd, capture_output=True, text=True)
             lines = out.stdout.strip().splitlines()
             if out.returncode or not lines:
@@ -253,17 +257,19 @@ def main(argv=None) -> None:
     b.add_argument("files", nargs="+")
     b.add_argument("--solvers", default=",".join(SOLVERS))
     b.add_argument("--numba", action="store_true")
+    b.add_argument("--threads", type=int, default=1, help="BLAS (MKL) threads")
     o = sub.add_parser("one")
     o.add_argument("file")
     o.add_argument("solver")
     o.add_argument("--numba", action="store_true")
+    o.add_argument("--threads", type=int, default=1)
     args = parser.parse_args(argv)
     if args.cmd == "dump":
         dump(args.size, args.out, args.every, args.steps)
     elif args.cmd == "bench":
-        bench(args.files, args.solvers.split(","), args.numba)
+        bench(args.files, args.solvers.split(","), args.numba, args.threads)
     else:
-        print(json.dumps(run_one(args.file, args.solver, args.numba)))
+        print(json.dumps(run_one(args.file, args.solver, args.numba, args.threads)))
 
 
 if __name__ == "__main__":
