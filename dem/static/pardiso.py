@@ -35,7 +35,7 @@ import numpy as np
 import scipy.sparse as sp
 
 REAL_NONSYMMETRIC = 11
-ANALYSE_FACTOR, FACTOR, SOLVE, RELEASE = 12, 22, 33, -1
+ANALYSE, FACTOR, SOLVE, RELEASE = 11, 22, 33, -1
 PERTURBED = 13  # iparm index: number of perturbed pivots after the numeric factorisation
 FACTOR_ENTRIES = 17  # iparm index: entries in the factors L and U
 
@@ -135,21 +135,27 @@ class PardisoLU:
         indptr, indices = self._pattern
         return np.array_equal(indptr, A.indptr) and np.array_equal(indices, A.indices)
 
+    def _analyse(self, A: sp.csc_matrix) -> None:
+        """Release the last factorisation and analyse the pattern of ``A`` (ordering and
+        symbolic factorisation)."""
+        _release(self.pt, self.iparm, self.shape[0])
+        self.pt[:] = 0
+        self._pattern = None
+        self.shape = A.shape
+        self._finaliser.detach()
+        self._finaliser = weakref.finalize(self, _release, self.pt, self.iparm, A.shape[0])
+        self.iparm[FACTOR_ENTRIES] = -1  # the analysis reports the entries of the factors
+        _call(self.pt, self.iparm, ANALYSE, A, A.shape[0])
+        self._pattern = (A.indptr.copy(), A.indices.copy())
+
     def factor(self, A: sp.csc_matrix) -> PardisoLU:
         """Factor ``A`` (square CSC, sorted 32-bit indices, finite values) in place; raise
         :class:`PardisoError` if PARDISO fails or perturbs a pivot."""
         self._valid = False
         A = _checked(A)
-        phase = FACTOR if self._same_pattern(A) else ANALYSE_FACTOR
-        if phase == ANALYSE_FACTOR:
-            _release(self.pt, self.iparm, self.shape[0])
-            self.pt[:] = 0
-            self.iparm[FACTOR_ENTRIES] = -1  # the analysis reports the entries of the factors
-        self.shape = A.shape
-        self._finaliser.detach()
-        self._finaliser = weakref.finalize(self, _release, self.pt, self.iparm, A.shape[0])
-        _call(self.pt, self.iparm, phase, A, A.shape[0])
-        self._pattern = (A.indptr.copy(), A.indices.copy())
+        if not self._same_pattern(A):
+            self._analyse(A)
+        _call(self.pt, self.iparm, FACTOR, A, A.shape[0])
         self._A = A
         if self.iparm[PERTURBED] > 0:
             raise PardisoError(f"{self.iparm[PERTURBED]} pivots perturbed: numerically singular")
@@ -166,6 +172,8 @@ class PardisoLU:
         if not self._valid:
             raise PardisoError("no valid factorisation to solve with")
         rhs = np.ascontiguousarray(b, dtype=np.float64)
+        if rhs.shape != (self.shape[0],):
+            raise ValueError(f"b must have shape ({self.shape[0]},), got {rhs.shape}")
         return _call(self.pt, self.iparm, SOLVE, self._A, self.shape[0], rhs)
 
 

@@ -56,6 +56,8 @@ def test_pardiso_refactors_in_place_with_the_kept_or_a_new_analysis(wall):
         np.testing.assert_allclose(A @ x, b, atol=1e-10 * np.linalg.norm(b))
         np.testing.assert_allclose(x, np.linalg.solve(A.toarray(), b), rtol=1e-8, atol=1e-14)
     assert lu.fill >= model.stiffness(D2).nnz
+    with pytest.raises(ValueError, match="b must have shape"):
+        lu.solve(np.ones(3))
 
 
 def _singular(model, D) -> sp.csc_matrix:
