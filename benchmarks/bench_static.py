@@ -28,7 +28,9 @@ Prints
    share, the time per iteration split into law, assembly, factorisation, solves and the rest
    (cProfile), lambda with its bar by both methods and whether the DEM's lies below the upper
    bound within the two bars, the subprocess's peak resident memory, and the growth exponents
-   of the time per iteration (against dofs) and of the total time (against blocks).
+   of the time per iteration (against dofs) and of the total time (against blocks);
+   ``--lu superlu,pardiso`` runs the static DEM once per sparse LU (``BLOCKMECH_SPARSE_LU``)
+   and prints the whole-run ratios and the change of lambda between them.
 
 Times are wall-clock on a shared machine: compare ratios within one run.
 """
@@ -59,10 +61,11 @@ from dem.scenes.seed001_walls import (
     SPECIMENS,
     restrepo_specimen,
 )
-from dem.static import StaticSettings, StaticSolverError, solve_collapse
+from dem.static import StaticSettings, StaticSolverError, newton, solve_collapse
 from dem.static.dead_load import solve_dead_load
 from dem.static.model import Model
 from dem.static.newton import Corrector, factor
+from dem.static.pardiso import PardisoLU
 from limit.problems import LimitSettings, build_static_problem
 from limit.solve import solve_static
 
@@ -283,22 +286,34 @@ def in_plane_wall(n_per_course: int, n_courses: int) -> Scene:
 
 
 PROFILED = {
-    "law": ("dem/static/model.py", "evaluate"),
-    "assembly": ("dem/static/model.py", "stiffness"),
-    "factorisation": ("dem/static/newton.py", "factor"),
+    "law": Model.evaluate,
+    "assembly": Model.stiffness,
+    "factorisation": factor,
     "solves": ("~", "<method 'solve' of 'SuperLU' objects>"),
+    "pardiso solves": PardisoLU.solve,
 }
-"""Parts of a Newton iteration -> (file, function) whose cumulative time cProfile gives: the
-interface law with ``H U`` and ``H^T f`` (every trial of the line search), the assembly of
-``K`` or the bordered matrix, the sparse LU, and the triangular solves (GMRES's included)."""
+"""Parts of a Newton iteration -> function (or cProfile's (file, name) of a built-in) whose
+cumulative time cProfile gives: the interface law with ``H U`` and ``H^T f`` (every trial of
+the line search), the assembly of ``K`` or the bordered matrix, the sparse LU, and the
+triangular solves (GMRES's included) of SuperLU or PARDISO."""
+
+
+def _profile_key(part) -> tuple:
+    """cProfile's (file, line, name) of a function, or (file suffix, name) of a built-in."""
+    if isinstance(part, tuple):
+        return part
+    code = part.__code__
+    return code.co_filename, code.co_firstlineno, code.co_name
 
 
 def _profiled_parts(stats: pstats.Stats) -> dict[str, float]:
     """Cumulative seconds of each part of :data:`PROFILED` in ``stats``."""
+    keys = {part: _profile_key(fn) for part, fn in PROFILED.items()}
     out = dict.fromkeys(PROFILED, 0.0)
-    for (path, _, func), (_, _, _, cumulative, _) in stats.stats.items():
-        for part, (suffix, name) in PROFILED.items():
-            if func == name and path.endswith(suffix):
+    for (path, line, func), (_, _, _, cumulative, _) in stats.stats.items():
+        for part, key in keys.items():
+            exact = len(key) == 3 and (path, line, func) == key
+            if exact or (len(key) == 2 and func == key[1] and path.endswith(key[0])):
                 out[part] += cumulative
     return out
 
@@ -347,6 +362,7 @@ def run_in_plane(size: int, method: str, max_steps: int | None = None) -> dict:
         "blocks": scene.n_blocks,
         "dofs": int(scene.supports.free_dofs.sum()),
         "method": method,
+        "lu": newton.BACKEND.name,
         "base_mib": _peak_mib(),
     }
     start = time.perf_counter()
@@ -367,9 +383,10 @@ def _peak_mib() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def _subprocess_row(size: int, method: str, max_steps: int | None) -> dict:
+def _subprocess_row(size: int, method: str, max_steps: int | None, lu: str = "auto") -> dict:
     cmd = [sys.executable, __file__, "--in-plane-one", f"{size}:{method}:{max_steps or 0}"]
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
+    env = os.environ | {newton.LU_ENV: lu}
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=env).stdout
     return json.loads(out.strip().splitlines()[-1])
 
 
@@ -382,7 +399,8 @@ def _static_line(st: dict) -> str:
     target = IN_PLANE_TARGET_S[st["size"]]
     verdict = "" if target is None else (" OK" if st["wall_s"] <= target else " over target")
     return (
-        f"{st['blocks']:6d} blocks {st['dofs']:6d} dofs | static {st['wall_s']:7.1f} s{verdict}"
+        f"{st['blocks']:6d} blocks {st['dofs']:6d} dofs | {st['lu']:>7s} "
+        f"{st['wall_s']:7.1f} s{verdict}"
         f" lambda {format_estimate(st['lam'], st['lam_error'])} {st['termination']} steps "
         f"{st['steps']} iterations {st['iterations']} (failed {st['failed_iterations']}, "
         f"{st['failed_iterations'] / n_it:.0%}) {1e3 * st['wall_s'] / n_it:.1f} ms/iteration "
@@ -413,10 +431,22 @@ def _growth(st: dict, last: dict) -> str:
     )
 
 
-def in_plane(sizes, max_steps: int | None = None, limit: bool = True) -> None:
-    """Every in-plane wall of ``sizes`` with the static DEM and (``limit``) the limit analysis,
-    each in a fresh subprocess (so its peak memory is its own); the static path to collapse,
-    or ``max_steps`` steps (which measures the cost per iteration of the larger walls in a
+def _lu_ratio(first: dict, other: dict) -> str:
+    """Whole-run time of ``first`` over ``other`` (two sparse LUs on one wall) and the
+    change of lambda between them."""
+    return (
+        f"{'':20s}| {first['lu']} / {other['lu']}: whole run "
+        f"{first['wall_s'] / other['wall_s']:.2f}x"
+        f", iterations {first['iterations']} / {other['iterations']}, lambda change "
+        f"{abs(other['lam'] - first['lam']):.2e} ({other['lam']!r})"
+    )
+
+
+def in_plane(sizes, max_steps: int | None = None, limit: bool = True, lus=("auto",)) -> None:
+    """Every in-plane wall of ``sizes`` with the static DEM, once per sparse LU of ``lus``
+    (``dem.static.newton.select_backend``), and (``limit``) the limit analysis, each in a
+    fresh subprocess (so its peak memory is its own); the static path to collapse, or
+    ``max_steps`` steps (which measures the cost per iteration of the larger walls in a
     bounded time)."""
     print("== in-plane running-bond walls, live load = weight along +x ==")
     cap = "to collapse" if max_steps is None else f"at most {max_steps} steps"
@@ -424,8 +454,12 @@ def in_plane(sizes, max_steps: int | None = None, limit: bool = True) -> None:
           f"{' '.join(f'{x:.1f}' for x in _load())}")  # fmt: skip
     last = None
     for size in sizes:
-        st = _subprocess_row(size, "static", max_steps)
-        print(_static_line(st), flush=True)
+        rows = [_subprocess_row(size, "static", max_steps, lu) for lu in lus]
+        for st in rows:
+            print(_static_line(st), flush=True)
+        for other in rows[1:]:
+            print(_lu_ratio(rows[0], other), flush=True)
+        st = rows[-1]
         if last is not None:
             print(_growth(st, last), flush=True)
         if limit:
@@ -462,6 +496,12 @@ def main(argv=None) -> None:
         "--in-plane-steps", type=int, help="--in-plane: stop each static path after so many steps"
     )
     parser.add_argument("--no-limit", action="store_true", help="--in-plane: the static DEM alone")
+    parser.add_argument(
+        "--lu",
+        default="auto",
+        help="--in-plane: sparse LUs to run the static DEM with, e.g. superlu,pardiso (ratios "
+        "against the first)",
+    )
     parser.add_argument("--in-plane-one", help=argparse.SUPPRESS)  # SIZE:METHOD:STEPS
     args = parser.parse_args(argv)
     if args.in_plane_one:
@@ -470,7 +510,7 @@ def main(argv=None) -> None:
         return
     if args.in_plane:
         sizes = [int(x) for x in args.in_plane.split(",")]
-        in_plane(sizes, args.in_plane_steps, limit=not args.no_limit)
+        in_plane(sizes, args.in_plane_steps, limit=not args.no_limit, lus=args.lu.split(","))
         return
     names = args.walls.split(",")
     if args.table2:

@@ -19,6 +19,8 @@ exact law, so every converged point is an equilibrium of it.
 
 from __future__ import annotations
 
+import logging
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,21 +28,76 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from dem.static.model import Evaluation, Model
+from dem.static.pardiso import AVAILABLE as PARDISO_AVAILABLE
+from dem.static.pardiso import PardisoError, PardisoLU
 from dem.static.result import StaticSolverError
 from dem.static.settings import StaticSettings
+
+logger = logging.getLogger(__name__)
 
 BACKTRACK = (1.0, 0.5, 0.25, 0.125, 1 / 32, 1 / 256)  # step lengths tried along a direction
 
 
-def factor(A: sp.csc_matrix):
-    """Sparse LU (symmetric-mode ordering: the pattern of H^T D H is symmetric), or the
-    exception if the matrix is singular."""
-    try:
-        return spla.splu(
-            A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.01, options={"SymmetricMode": True}
-        )
-    except RuntimeError as exc:  # "Factor is exactly singular"
-        return exc
+class SuperLUBackend:
+    """scipy's SuperLU with a symmetric-mode ordering (the pattern of ``H^T D H`` is
+    symmetric): MMD on ``A + A^T``, diagonal pivots preferred down to 0.01 of the column's
+    largest entry."""
+
+    name = "superlu"
+    reuse_as_preconditioner = True
+
+    def factor(self, A: sp.csc_matrix, previous=None):
+        """The LU of ``A`` (``previous`` is not used), or the exception if it is singular."""
+        try:
+            return spla.splu(
+                A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.01,
+                options={"SymmetricMode": True},
+            )  # fmt: skip
+        except RuntimeError as exc:  # "Factor is exactly singular"
+            return exc
+
+
+class PardisoBackend:
+    """MKL PARDISO (:mod:`dem.static.pardiso`), refactoring ``previous`` in place (its
+    analysis is kept while the pattern is the same); a matrix that PARDISO cannot factor
+    without perturbing a pivot goes to SuperLU, which factors it or reports it singular."""
+
+    name = "pardiso"
+    reuse_as_preconditioner = False
+
+    def factor(self, A: sp.csc_matrix, previous=None):
+        """The LU of ``A`` (a :class:`PardisoLU`, or SuperLU's), or the exception if it is
+        singular."""
+        lu = previous if isinstance(previous, PardisoLU) else PardisoLU()
+        try:
+            return lu.factor(A)
+        except PardisoError as exc:
+            logger.debug("PARDISO: %s; SuperLU factors this matrix", exc)
+            return SuperLUBackend().factor(A)
+
+
+def select_backend(name: str):
+    """The sparse LU named ``name``: "pardiso", "superlu", or "auto" (PARDISO where oneMKL
+    is installed, else SuperLU)."""
+    if name not in ("auto", "pardiso", "superlu"):
+        raise ValueError(f"{LU_ENV} must be auto, pardiso or superlu, got {name!r}")
+    if name == "pardiso" and not PARDISO_AVAILABLE:
+        raise ValueError(f"{LU_ENV}=pardiso but oneMKL's library (the mkl package) is missing")
+    if name == "superlu" or not PARDISO_AVAILABLE:
+        return SuperLUBackend()
+    return PardisoBackend()
+
+
+LU_ENV = "BLOCKMECH_SPARSE_LU"
+BACKEND = select_backend(os.environ.get(LU_ENV, "auto"))
+"""The sparse LU of the static Newton, chosen once at import by the environment variable
+``BLOCKMECH_SPARSE_LU`` (default "auto")."""
+
+
+def factor(A: sp.csc_matrix, previous=None):
+    """LU of ``A`` by :data:`BACKEND` (``previous``: an LU of the same backend that may be
+    overwritten), or the exception if the matrix is singular."""
+    return BACKEND.factor(A, previous)
 
 
 def _non_finite(what: str, lam: float, interfaces: np.ndarray, blocks: list) -> StaticSolverError:
@@ -55,15 +112,16 @@ def _non_finite(what: str, lam: float, interfaces: np.ndarray, blocks: list) -> 
 
 
 class LinearSolver:
-    """Solves with the current tangent, reusing an older LU as a GMRES preconditioner.
+    """Solves with the current tangent by :data:`BACKEND`, reusing an older LU as a GMRES
+    preconditioner where the backend's ``reuse_as_preconditioner`` says it pays.
 
     Between two Newton iterations only the interfaces that change state change the tangent:
     a low-rank update, which GMRES preconditioned with the previous factorisation resolves in
     a few iterations. A new factorisation is made when GMRES does not reach ``rtol`` within
     ``max_krylov`` iterations, and reuse stops once it fails more often than not. Each GMRES
-    iteration is a solve with the old LU, whose cost relative to a factorisation grows with
-    the model (memory-bound triangular solves): ``max_krylov`` solves must stay well below
-    one factorisation on the largest models too.
+    iteration is a solve with the old LU: the reuse pays only while ``max_krylov`` solves
+    cost well below one factorisation, which holds for SuperLU and not for PARDISO (a
+    numeric factorisation on a kept analysis costs about ten of its solves).
     """
 
     def __init__(self, rtol: float = 1e-10, max_krylov: int = 10):
@@ -93,12 +151,14 @@ class LinearSolver:
     def solve(self, A: sp.csc_matrix, rhs: np.ndarray):
         """``A^{-1} rhs``, or the exception of a singular factorisation."""
         useful = self.n_tries < 10 or self.n_krylov >= 0.5 * self.n_tries
+        useful = useful and BACKEND.reuse_as_preconditioner
         if useful and self.lu is not None and self.lu.shape == A.shape:
             x = self._krylov(A, rhs)
             if x is not None:
                 return x
-        lu = factor(A)
+        lu = factor(A, previous=self.lu)
         if isinstance(lu, Exception):
+            self.lu = None  # ``previous`` may have been overwritten
             return lu
         self.lu = lu
         self.n_factor += 1
