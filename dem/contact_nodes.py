@@ -12,11 +12,12 @@ thickness apart at the start.
   its plane) gets nodes in the requested layout.
 - Every other face of a block that counts against some block (an **exposed face**) gets nodes
   in the vertex layout, those on or near its edges pulled to ``EXPOSED_INSET_MARGINS`` margins
-  (at most half a spacing) inside them, tributary areas unchanged
-  (:func:`pull_inside`): near enough to an edge to meet a feature of another block that
-  crosses it before the overlap outgrows the margin, and clear of the penalty deflection of an
-  interface that shares the edge (micrometres under a sound stiffness), which the nodes
-  would otherwise count a second time.
+  inside them (all to the centroid on a face narrower than twice that), tributary areas
+  unchanged (:func:`pull_inside`): near enough to an edge to meet a feature of another block
+  that crosses it before the overlap outgrows the margin, beyond the margin of a neighbour
+  that shares the edge (no contact entry at rest), and clear of the penalty deflection of an
+  interface that shares it (micrometres under a sound stiffness), which the nodes would
+  otherwise count a second time.
 - A free block's upward face under the indenter's path (a vertical line, within the tip radius
   plus ``margin``) gets indenter nodes as well; those act against the indenter only.
 
@@ -66,9 +67,9 @@ MIN_TOUCH_FRACTION = 0.05
 """Faces touch when the part of their overlap within the margin is at least this fraction of the
 smaller face (pinwheel corners of diagonal TIS neighbours meet along a line only)."""
 EXPOSED_INSET_MARGINS = 2.0
-"""Nodes of exposed faces stand this many margins (at most half the node spacing) inside the
-face's edges (module docstring): beyond the margin of a neighbour that shares the edge, so
-that they make no contact entries at rest."""
+"""Nodes of exposed faces stand this many margins inside the face's edges (module docstring):
+beyond the margin of a neighbour that shares the edge, so that they make no contact entries
+at rest."""
 MAX_GRID_CELLS = 5_000_000
 """Most grid cells seeded on one face (about 1 GB of scratch arrays); more is refused."""
 
@@ -478,7 +479,7 @@ def seed_contact_nodes(
     interface = _face_nodes(assembly, seeded, spacing, layout, check_reach=True)
     exposed = _face_nodes(assembly, _exposed_faces(assembly, weight, seeded), spacing,
                           "vertex", check_reach=False,
-                          inset=min(EXPOSED_INSET_MARGINS * margin, 0.5 * spacing))  # fmt: skip
+                          inset=EXPOSED_INSET_MARGINS * margin)  # fmt: skip
     faces = tuple(i + e for i, e in zip(interface, exposed, strict=True))
     indenter: tuple = ([], [], [])
     if indenter_axis_xy is not None:

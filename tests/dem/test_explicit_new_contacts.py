@@ -10,7 +10,7 @@ penalty pushes the cube down with ``k_n (d - |x| - s) / 2`` per unit area. Over 
     F_z = -k_n [ L int (d - |x|) dx / 2 + 2 int int (d - |x| - s) ds dx / 2 ]
         = -k_n (L d^2 / 2 + d^3 / 3),    F_x = 0.
 
-The nodes (vertex layout, pulled ``delta = h / 2`` inside the face's edges) sum these
+The nodes (vertex layout, pulled ``delta = 2 margin = h / 2`` inside the face's edges) sum these
 integrals by the trapezoidal rule on cells of side ``h``; the edge line lies ``0.3 h`` off a
 grid line, so that no node is on the ridge, where the two faces are equally near. On the top
 face (1D): a kink of the slope by ``J`` inside a cell costs at most ``J h^2 / 8`` (the
@@ -59,7 +59,7 @@ def test_an_edge_pressed_into_a_face_that_never_touched_carries_the_penalty(dept
     no face of either block had nodes (the model found no contact stiffness at all, and the
     edge went into the cube unopposed); the free cube now counts the contact on all its
     faces (module docstring)."""
-    settings = ExplicitSettings(k_n=K_N, node_spacing=H, mu=0.0)
+    settings = ExplicitSettings(k_n=K_N, node_spacing=H, margin=H / 4, mu=0.0)
     model = ExplicitModel(knife_edge_scene(), settings)
     model.pos[0, 2] += depth  # the edge goes `depth` into the cube's top face
     model.rebuild()
