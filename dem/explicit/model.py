@@ -305,17 +305,23 @@ class ExplicitModel:
             self.hulls, self.bodies, self.shapes, motion.pos, rot, entry_pairs,
             self.settings.margin,
         )  # fmt: skip
-        if depth > allowed:
-            raise UnmodelledContactError(
-                f"blocks {a} and {b} overlap by {depth:.3e} m at t = {self.t:.6e} s (at most "
-                f"{allowed:.3e} m is a contact the model represents): no contact node of the "
-                "block that counts their contact lies inside the other (a corner or edge that "
-                "came in between the nodes: refine ExplicitSettings.node_spacing; fixed blocks "
-                "carry nodes only where they are the narrower side of an interface), or the "
-                "contact stiffness k_n is far too low for the load, and they are passing "
-                "through each other. The run stops here: from this point its results would be "
-                "wrong"
-            )
+        if depth <= allowed:
+            return
+        if allowed > self.settings.margin:
+            why = ("their contact nodes do not hold them apart: an edge or a corner pressing "
+                   "into a face between the nodes, or nodes taking the plane of a face beside "
+                   "it (refine ExplicitSettings.node_spacing)")  # fmt: skip
+        else:
+            why = ("no contact node of the block that counts their contact is within the "
+                   "margin of the other: a corner or edge that came in between the nodes "
+                   "(refine ExplicitSettings.node_spacing; fixed blocks carry nodes only where "
+                   "they are the narrower side of an interface)")  # fmt: skip
+        raise UnmodelledContactError(
+            f"blocks {a} and {b} overlap by {depth:.3e} m at t = {self.t:.6e} s (at most "
+            f"{allowed:.3e} m is a contact the model represents): {why}, or the contact "
+            "stiffness k_n is far too low for the load, and they are passing through each "
+            "other. The run stops here: from this point its results would be wrong"
+        )
 
     def _new_scratch(self) -> None:
         """Work arrays and block pairs (``scratch``, ``pairs``) for the current neighbour list
