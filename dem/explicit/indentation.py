@@ -431,6 +431,7 @@ def _make_result(model, st, indentation, settings, relaxation, ind, wall_s, setu
         "dt": model.dt,
         "dt_critical": model.dt_critical,
         "omega_max": model.omega_max,
+        "step_check": model.step_check.as_dict(),
         "alpha": model.alpha,
         "beta": model.beta,
         "n_nodes": n_nodes,

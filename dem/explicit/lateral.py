@@ -362,6 +362,7 @@ def _run_once(scene: Scene, settings: ExplicitSettings, driver, relaxation) -> L
         info={
             "dt": model.dt,
             "omega_max": model.omega_max,
+            "step_check": model.step_check.as_dict(),
             "n_nodes": model.nodes.n_nodes,
             "relax": relax_info,
             "steps": run.steps,

@@ -40,6 +40,7 @@ from dem.explicit.state import (
     Scratch,
     Shapes,
 )
+from dem.explicit.step_check import StepCheck
 from dem.explicit.timestep import choose_time_step, highest_frequency
 from dem.explicit.unmodelled import (
     INDENTER_DEPTH_LIMIT,
@@ -184,13 +185,15 @@ class ExplicitModel:
         """The highest frequency of the initial contacts (``with_indenter``: and of the
         indenter's), the time step and damping rates, and the contact law."""
         settings = self.settings
+        self._frequency_indenter = self.indenter if with_indenter else None
         self.omega_max = highest_frequency(
             self.bodies, self.surface, self.state.contacts, self.state.motion.pos,
-            settings.k_n, settings.k_t, self.indenter if with_indenter else None,
+            settings.k_n, settings.k_t, self._frequency_indenter,
         )  # fmt: skip
         step = choose_time_step(self.omega_max, settings)
         self.dt, self.dt_critical = step["dt"], step["dt_critical"]
         self.alpha, self.beta = step["alpha"], step["beta"]
+        self.step_check = StepCheck(self.omega_max)
         self._check_damping(self.alpha, "ExplicitSettings.global_damping")
         vertices = self.scene.assembly.arrays.vertices
         self.law = Law(
@@ -281,7 +284,8 @@ class ExplicitModel:
 
     # -- neighbour list ----------------------------------------------------------------------
     def rebuild(self) -> None:
-        """Rebuild the contact entries and carry the shear history over."""
+        """Rebuild the contact entries and carry the shear history over (the next step checks
+        the time step against them, :meth:`_check_step`), and refuse unmodelled overlaps."""
         motion, old = self.state.motion, self.state.contacts
         rot = np.empty((self.n_blocks, 3, 3))
         quat_to_rot(motion.quat, rot)
@@ -295,6 +299,16 @@ class ExplicitModel:
         self.state.n_rebuilds += 1
         self._new_scratch()
         self._refuse_unmodelled_contact(rot)
+
+    def _check_step(self, alpha: float) -> None:
+        """Check ``dt`` against the present entries with the global damping rate ``alpha``
+        [1/s] (:mod:`dem.explicit.step_check`, which raises :class:`SimulationError` if it is
+        unstable for them)."""
+        k_n, k_t = self.settings.k_n, self.settings.k_t
+        frequency_args = (self.bodies, self.surface, self.state.contacts, self.pos, k_n, k_t,
+                          self._frequency_indenter, self.rotations())  # fmt: skip
+        self.step_check.check(frequency_args, self.dt, alpha, self.beta, self.t)
+        self.step_checked = True
 
     def _refuse_unmodelled_contact(self, rot: np.ndarray) -> None:
         """Stop when two blocks overlap more than the model represents (:mod:`.unmodelled`);
@@ -325,7 +339,9 @@ class ExplicitModel:
 
     def _new_scratch(self) -> None:
         """Work arrays and block pairs (``scratch``, ``pairs``) for the current neighbour list
-        (every entry is evaluated at the next step)."""
+        (every entry is evaluated at the next step, which first checks the time step against
+        them)."""
+        self.step_checked = False
         self.scratch = Scratch.empty(self.n_blocks, self.n_entries)
         contacts = self.state.contacts
         rot_build = np.zeros((self.n_blocks, 3, 3))
@@ -576,6 +592,8 @@ class ExplicitModel:
         stepping = (self.dt, alpha, local_damping, self.parallel)
         left = int(n_steps)
         while left > 0:
+            if not self.step_checked:
+                self._check_step(alpha)
             with _dynamic_schedule(self.parallel):
                 done, status, self.state.t = run_steps(
                     left, self.state.t, stepping, self.constants,

@@ -18,6 +18,7 @@ def highest_frequency(
     k_n: float,
     k_t: float,
     indenter: Indenter | None = None,
+    rot: np.ndarray | None = None,
 ) -> float:
     """Highest natural frequency with every candidate contact closed [rad/s].
 
@@ -32,29 +33,22 @@ def highest_frequency(
     bodies, nodes, contacts : Bodies, Nodes, Contacts
         See :mod:`dem.explicit.state`.
     pos : (n_blocks, 3) float
-        Centroids [m] (reference configuration: the nodes are placed unrotated).
+        Centroids [m].
     k_n, k_t : float
         Penalties [Pa/m].
     indenter : Indenter, optional
         Include the indenter's nodes.
+    rot : (n_blocks, 3, 3) float, optional
+        Rotations of the blocks (default: the reference orientation).
     """
     free = bodies.free_blocks
     nf = len(free)
     if nf == 0:
         return 0.0
-    n_blocks = len(bodies.inv_mass)
-    free_index = -np.ones(n_blocks, dtype=np.int64)
+    free_index = -np.ones(len(bodies.inv_mass), dtype=np.int64)
     free_index[free] = np.arange(nf)
-    owners = nodes.block[contacts.node]
-    points = pos[owners] + nodes.r0[contacts.node]
-    stiff = max(k_n, k_t) * nodes.area[contacts.node] * contacts.weight
-    sides = [(owners, 1.0), (contacts.block, -1.0)]
-    if indenter is not None and len(indenter.block):
-        points = np.concatenate([points, pos[indenter.block] + indenter.r0])
-        stiff = np.concatenate([stiff, k_n * indenter.area])
-        owners = np.concatenate([owners, indenter.block])
-        sides = [(owners, 1.0), (np.concatenate([contacts.block, indenter.block]), 0.0)]
-    jac = [(blk, sign * _point_jacobian(points - pos[blk])) for blk, sign in sides]
+    stiff, points, sides = _entries(nodes, contacts, pos, k_n, k_t, indenter, rot)
+    jac = [(blk, sign[:, None, None] * _point_jacobian(points - pos[blk])) for blk, sign in sides]
     K = np.zeros((6 * nf, 6 * nf))
     for bi, Ji in jac:
         for bj, Jj in jac:
@@ -68,13 +62,128 @@ def highest_frequency(
             K += acc.reshape(nf, nf, 6, 6).transpose(0, 2, 1, 3).reshape(6 * nf, 6 * nf)
     if not np.any(K):
         return 0.0
-    M = np.zeros((6 * nf, 6 * nf))
-    for j, i in enumerate(free):
-        M[6 * j : 6 * j + 3, 6 * j : 6 * j + 3] = np.eye(3) / bodies.inv_mass[i]
-        M[6 * j + 3 : 6 * j + 6, 6 * j + 3 : 6 * j + 6] = bodies.inertia_ref[i]
+    M = scipy.linalg.block_diag(*_block_masses(bodies, free, rot))
     last = 6 * nf - 1
     top = scipy.linalg.eigh(K, M, eigvals_only=True, subset_by_index=[last, last])[0]
     return float(math.sqrt(max(top, 0.0)))
+
+
+def frequency_bound(
+    bodies: Bodies,
+    nodes: Nodes,
+    contacts: Contacts,
+    pos: np.ndarray,
+    k_n: float,
+    k_t: float,
+    indenter: Indenter | None = None,
+    rot: np.ndarray | None = None,
+) -> np.ndarray:
+    """Upper bound on :func:`highest_frequency` per free block [rad/s], in O(entries).
+
+    An entry that moves ``s`` free blocks (1 or 2) adds ``k A w (J_a - J_b)^T (J_a - J_b)``
+    to ``K``, which is at most ``s k A w (J_a^T J_a + J_b^T J_b)`` (Cauchy-Schwarz); so ``K``
+    is at most the block-diagonal ``D`` of these terms, and ``omega_max^2 <= max_i
+    lambda_max(D_ii, M_ii)`` over the free blocks ``i``. Since ``omega_max^2`` is at least
+    ``max_i lambda_max(K_ii, M_ii) >= max_i lambda_max(D_ii, M_ii) / 2``, the bound is at most
+    ``sqrt(2)`` times the exact ``omega_max``.
+
+    Parameters are those of :func:`highest_frequency`.
+
+    Returns
+    -------
+    (n_blocks,) float
+        The bound from each block's entries [rad/s] (0 for fixed blocks and blocks without
+        entries); its maximum bounds ``omega_max``.
+    """
+    n_blocks = len(bodies.inv_mass)
+    out = np.zeros(n_blocks)
+    free = bodies.free_blocks
+    if len(free) == 0:
+        return out
+    is_free = np.zeros(n_blocks, dtype=bool)
+    is_free[free] = True
+    stiff, points, sides = _entries(nodes, contacts, pos, k_n, k_t, indenter, rot)
+    moves = [is_free[blk] & (sign != 0.0) & (stiff > 0) for blk, sign in sides]
+    weight = np.sum(moves, axis=0) * stiff
+    D = np.zeros((n_blocks, 6, 6))
+    for (blk, _), moved in zip(sides, moves, strict=True):
+        D += _moment_blocks(blk[moved], weight[moved], (points - pos[blk])[moved], n_blocks)
+    inertia = bodies.inertia_ref[free]
+    if rot is not None:
+        inertia = rot[free] @ inertia @ rot[free].transpose(0, 2, 1)
+    values, vectors = np.linalg.eigh(inertia)
+    inv_sqrt = np.zeros((len(free), 6, 6))
+    inv_sqrt[:, :3, :3] = np.sqrt(bodies.inv_mass[free])[:, None, None] * np.eye(3)
+    inv_sqrt[:, 3:, 3:] = (vectors / np.sqrt(values)[:, None, :]) @ vectors.transpose(0, 2, 1)
+    scaled = inv_sqrt @ D[free] @ inv_sqrt
+    out[free] = np.sqrt(np.maximum(np.linalg.eigvalsh(scaled)[:, -1], 0.0))
+    return out
+
+
+def _moment_blocks(blk: np.ndarray, weight: np.ndarray, arm: np.ndarray, n: int) -> np.ndarray:
+    """(n, 6, 6) sums over entries of ``weight J^T J`` per block ``blk``, ``J`` the point
+    Jacobian of the ``arm`` (m, 3): from the moments ``K0 = sum w``, ``K1 = sum w r`` and
+    ``K2 = sum w r r^T``, ``[[K0 I, -skew(K1)], [skew(K1), tr(K2) I - K2]]``."""
+    k0 = np.bincount(blk, weight, n)
+    k1 = np.stack([np.bincount(blk, weight * arm[:, i], n) for i in range(3)], axis=1)
+    k2 = np.empty((n, 3, 3))
+    for i in range(3):
+        for j in range(i, 3):
+            k2[:, i, j] = k2[:, j, i] = np.bincount(blk, weight * arm[:, i] * arm[:, j], n)
+    skew = np.zeros((n, 3, 3))
+    skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -k1[:, 2], k1[:, 1], -k1[:, 0]
+    skew -= skew.transpose(0, 2, 1)
+    out = np.zeros((n, 6, 6))
+    out[:, :3, :3] = k0[:, None, None] * np.eye(3)
+    out[:, :3, 3:] = -skew
+    out[:, 3:, :3] = skew
+    out[:, 3:, 3:] = np.trace(k2, axis1=1, axis2=2)[:, None, None] * np.eye(3) - k2
+    return out
+
+
+def stable_frequency(dt: float, alpha: float, beta: float) -> float:
+    """Highest frequency [rad/s] the damped scheme is stable for at time step ``dt`` [s].
+
+    With the global damping rate ``alpha`` [1/s] and the contact dashpot ``beta`` [s] (modal
+    damping rate ``alpha + beta omega^2``), symplectic Euler is stable for ``(omega dt)^2 +
+    2 (alpha + beta omega^2) dt <= 4`` (the condition of
+    :meth:`dem.explicit.ExplicitModel._check_damping`); this is the ``omega`` where it holds
+    with equality (0 if ``alpha dt >= 2``).
+    """
+    room = 4.0 - 2.0 * alpha * dt
+    if room <= 0.0:
+        return 0.0
+    return math.sqrt(room / (dt * dt + 2.0 * beta * dt))
+
+
+def _entries(nodes, contacts, pos, k_n, k_t, indenter, rot):
+    """Per entry: stiffness ``k A w`` [N/m] (m,), node position [m] (m, 3) and the two sides
+    as ``(block (m,), sign (m,))`` (sign 0 for the indenter's side)."""
+    owners = nodes.block[contacts.node]
+    offsets = nodes.r0[contacts.node]
+    stiff = max(k_n, k_t) * nodes.area[contacts.node] * contacts.weight
+    others, signs = contacts.block, -np.ones(len(owners))
+    if indenter is not None and len(indenter.block):
+        offsets = np.concatenate([offsets, indenter.r0])
+        stiff = np.concatenate([stiff, k_n * indenter.area])
+        owners = np.concatenate([owners, indenter.block])
+        others = np.concatenate([contacts.block, indenter.block])
+        signs = np.concatenate([signs, np.zeros(len(indenter.block))])
+    if rot is not None:
+        offsets = np.einsum("mij,mj->mi", rot[owners], offsets)
+    return stiff, pos[owners] + offsets, [(owners, np.ones(len(owners))), (others, signs)]
+
+
+def _block_masses(bodies: Bodies, free: np.ndarray, rot: np.ndarray | None) -> list:
+    """The 6 x 6 mass matrices ``diag(m I, R I_ref R^T)`` of the ``free`` blocks."""
+    out = []
+    for i in free:
+        M = np.zeros((6, 6))
+        M[:3, :3] = np.eye(3) / bodies.inv_mass[i]
+        inertia = bodies.inertia_ref[i]
+        M[3:, 3:] = inertia if rot is None else rot[i] @ inertia @ rot[i].T
+        out.append(M)
+    return out
 
 
 def _point_jacobian(r: np.ndarray) -> np.ndarray:
