@@ -12,6 +12,8 @@ Modules, one concern each:
   ``Nodes``, ``Law``, ``Scratch``, ``Indenter``) and ``ExplicitState``, what evolves (block
   motion, neighbour list with its friction history, time): snapshots and checkpoints hold it;
 - :mod:`~dem.explicit.timestep`: highest frequency and stable time step;
+- :mod:`~dem.explicit.step_check`: the time step against the contacts present at each
+  neighbour-list rebuild (the run stops if it is unstable for them);
 - :mod:`~dem.explicit.model`: the scene prepared for dynamics (nodes, neighbour list, advance,
   relaxation, support check);
 - :mod:`~dem.explicit.indentation`: the sphere-indentation driver (seed 000) with checkpoints;

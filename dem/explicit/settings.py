@@ -68,9 +68,12 @@ class ExplicitSettings:
         ``(block size / spacing)^3`` per block).
     dt : float or None
         Time step [s]; None: ``dt_safety`` times the stable limit. A forced ``dt`` above the
-        stable limit raises ``ValueError``.
+        stable limit raises ``ValueError``. The time step never changes during a run; contacts
+        that appear later are checked against it (:mod:`dem.explicit.step_check`), and a run
+        meeting a contact it is unstable for stops with :class:`SimulationError`.
     dt_safety : float
-        Fraction of the stable limit; default 0.5.
+        Fraction of the stable limit of the contacts at the start; default 0.5 (room for
+        contacts that appear later).
     mass_scaling : float
         Factor on inertial masses and inertias (weights stay true); default 1 (none).
     global_damping : float
