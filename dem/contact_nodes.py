@@ -141,6 +141,14 @@ def _face_frame(polygon: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np
     return u, np.cross(normal, u)
 
 
+def _face_plane(polygon: np.ndarray, normal: np.ndarray) -> tuple:
+    """The face's axes ``u``, ``v`` (:func:`_face_frame`), origin (its first corner) [m] and
+    the polygon in ``(u, v)`` coordinates (k, 2) [m]."""
+    u, v = _face_frame(polygon, normal)
+    origin = polygon[0]
+    return u, v, origin, np.column_stack([(polygon - origin) @ u, (polygon - origin) @ v])
+
+
 def seed_face(
     polygon: np.ndarray,
     normal: np.ndarray,
@@ -298,9 +306,7 @@ def _face_grid(polygon: np.ndarray, normal: np.ndarray, spacing: float) -> tuple
     """The face's grid: axes ``u``, ``v`` (3,), origin (3,) [m], the polygon in ``(u, v)``
     (k, 2) [m], the grid's corner ``start`` (2,) [m] and its cell counts ``(n_u, n_v)``; the
     grid is centred on the face's bounding box so that the edge cells are symmetric."""
-    u, v = _face_frame(polygon, normal)
-    origin = polygon[0]
-    poly2 = np.column_stack([(polygon - origin) @ u, (polygon - origin) @ v])
+    u, v, origin, poly2 = _face_plane(polygon, normal)
     lo, hi = poly2.min(axis=0), poly2.max(axis=0)
     n_u = max(1, math.ceil((hi[0] - lo[0]) / spacing - 1e-9))
     n_v = max(1, math.ceil((hi[1] - lo[1]) / spacing - 1e-9))
@@ -566,9 +572,7 @@ def pull_inside(polygon: np.ndarray, normal: np.ndarray, points: np.ndarray,
         go to its nearest point (a point on an edge moves ``inset`` along the edge's inward
         normal). On a face narrower than ``2 inset`` every point goes to the face's centroid.
     """
-    u, v = _face_frame(polygon, normal)
-    origin = polygon[0]
-    poly2 = np.column_stack([(polygon - origin) @ u, (polygon - origin) @ v])
+    u, v, origin, poly2 = _face_plane(polygon, normal)
     p2 = np.column_stack([(points - origin) @ u, (points - origin) @ v])
     edge = np.roll(poly2, -1, axis=0) - poly2
     inward = np.column_stack([-edge[:, 1], edge[:, 0]]) / np.linalg.norm(edge, axis=1)[:, None]
@@ -618,8 +622,7 @@ def _face_nodes(assembly: Assembly, faces: set, spacing: float, layout: str,
         blk = assembly.blocks[owner]
         polygon = blk.vertices[blk.faces[face]]
         pts, areas = seed_face(polygon, blk.normals[face], spacing, layout)
-        reach = node_reach(polygon, blk.normals[face], pts)
-        if check_reach and reach < MIN_REACH:
+        if check_reach and (reach := node_reach(polygon, blk.normals[face], pts)) < MIN_REACH:
             short.append((reach, owner, face))
         blocks_l.append(np.full(len(areas), owner, dtype=np.int64))
         points_l.append(pull_inside(polygon, blk.normals[face], pts, inset) if inset > 0 else pts)
@@ -680,10 +683,7 @@ def _warn_short_reach(short: list, spacing: float, layout: str) -> None:
 
 
 def _local(block, face: int) -> np.ndarray:
-    poly = block.vertices[block.faces[face]]
-    u, v = _face_frame(poly, block.normals[face])
-    rel = poly - poly[0]
-    return np.column_stack([rel @ u, rel @ v])
+    return _face_plane(block.vertices[block.faces[face]], block.normals[face])[3]
 
 
 def _polygon_xy_distance(poly_xy: np.ndarray, point: np.ndarray) -> float:

@@ -11,13 +11,17 @@ of the present entries decides.
 from __future__ import annotations
 
 import logging
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from dem.explicit.settings import SimulationError
-from dem.explicit.timestep import frequency_bound, highest_frequency, stable_frequency
+from dem.explicit.timestep import (
+    frequency_bound,
+    highest_frequency,
+    stable_frequency,
+    stable_time_step,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -76,8 +80,7 @@ class StepCheck:
         owners = nodes.block[contacts.node]
         partners = np.unique(np.concatenate([contacts.block[owners == block],
                                              owners[contacts.block == block]]))  # fmt: skip
-        damping = alpha + beta * omega * omega
-        dt_stable = (math.sqrt(damping * damping + 4.0 * omega * omega) - damping) / omega**2
+        dt_stable = stable_time_step(omega, alpha, beta)
         start = (f"{omega / self.omega_start:.3g} times the {self.omega_start:.3e} rad/s of the "
                  "contacts at the start" if self.omega_start > 0
                  else "no contact set the time step at the start")  # fmt: skip

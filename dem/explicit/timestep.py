@@ -108,10 +108,7 @@ def frequency_bound(
     D = np.zeros((n_blocks, 6, 6))
     for (blk, _), moved in zip(sides, moves, strict=True):
         D += _moment_blocks(blk[moved], weight[moved], (points - pos[blk])[moved], n_blocks)
-    inertia = bodies.inertia_ref[free]
-    if rot is not None:
-        inertia = rot[free] @ inertia @ rot[free].transpose(0, 2, 1)
-    values, vectors = np.linalg.eigh(inertia)
+    values, vectors = np.linalg.eigh(_inertia(bodies, free, rot))
     inv_sqrt = np.zeros((len(free), 6, 6))
     inv_sqrt[:, :3, :3] = np.sqrt(bodies.inv_mass[free])[:, None, None] * np.eye(3)
     inv_sqrt[:, 3:, 3:] = (vectors / np.sqrt(values)[:, None, :]) @ vectors.transpose(0, 2, 1)
@@ -156,6 +153,14 @@ def stable_frequency(dt: float, alpha: float, beta: float) -> float:
     return math.sqrt(room / (dt * dt + 2.0 * beta * dt))
 
 
+def stable_time_step(omega: float, alpha: float, beta: float) -> float:
+    """Largest time step [s] at which the damped scheme is stable for the frequency
+    ``omega`` [rad/s] > 0 (the inverse of :func:`stable_frequency`: the ``dt`` where
+    ``(omega dt)^2 + 2 (alpha + beta omega^2) dt = 4``)."""
+    damping = alpha + beta * omega * omega
+    return (math.sqrt(damping * damping + 4.0 * omega * omega) - damping) / omega**2
+
+
 def _entries(nodes, contacts, pos, k_n, k_t, indenter, rot):
     """Per entry: stiffness ``k A w`` [N/m] (m,), node position [m] (m, 3) and the two sides
     as ``(block (m,), sign (m,))`` (sign 0 for the indenter's side)."""
@@ -174,16 +179,19 @@ def _entries(nodes, contacts, pos, k_n, k_t, indenter, rot):
     return stiff, pos[owners] + offsets, [(owners, np.ones(len(owners))), (others, signs)]
 
 
-def _block_masses(bodies: Bodies, free: np.ndarray, rot: np.ndarray | None) -> list:
-    """The 6 x 6 mass matrices ``diag(m I, R I_ref R^T)`` of the ``free`` blocks."""
-    out = []
-    for i in free:
-        M = np.zeros((6, 6))
-        M[:3, :3] = np.eye(3) / bodies.inv_mass[i]
-        inertia = bodies.inertia_ref[i]
-        M[3:, 3:] = inertia if rot is None else rot[i] @ inertia @ rot[i].T
-        out.append(M)
-    return out
+def _inertia(bodies: Bodies, free: np.ndarray, rot: np.ndarray | None) -> np.ndarray:
+    """(len(free), 3, 3) inertia tensors ``R I_ref R^T`` of the ``free`` blocks [kg m^2]
+    (``I_ref`` where ``rot`` is None)."""
+    inertia = bodies.inertia_ref[free]
+    return inertia if rot is None else rot[free] @ inertia @ rot[free].transpose(0, 2, 1)
+
+
+def _block_masses(bodies: Bodies, free: np.ndarray, rot: np.ndarray | None) -> np.ndarray:
+    """(len(free), 6, 6) mass matrices ``diag(m I, R I_ref R^T)`` of the ``free`` blocks."""
+    M = np.zeros((len(free), 6, 6))
+    M[:, :3, :3] = np.eye(3) / bodies.inv_mass[free][:, None, None]
+    M[:, 3:, 3:] = _inertia(bodies, free, rot)
+    return M
 
 
 def _point_jacobian(r: np.ndarray) -> np.ndarray:

@@ -21,6 +21,7 @@ from dem.explicit.timestep import (
     frequency_bound,
     highest_frequency,
     stable_frequency,
+    stable_time_step,
 )
 from dem.scene import Scene
 from dem.scenes.tis_panel import tis_panel
@@ -99,6 +100,11 @@ def test_the_stable_frequency_of_the_chosen_critical_step_is_the_start_frequency
     assert stable_frequency(step["dt_critical"], 0.0, step["beta"]) == pytest.approx(1e5)
     assert stable_frequency(1e-3, 0.0, 0.0) == pytest.approx(2e3)
     assert stable_frequency(1e-3, 2.5e3, 0.0) == 0.0
+    # the step the stop message names is the one whose stable frequency is omega
+    assert stable_time_step(1e5, 0.0, step["beta"]) == pytest.approx(step["dt_critical"])
+    for alpha, beta in ((0.0, 0.0), (300.0, 2e-6), (1e3, 0.0)):
+        dt = stable_time_step(1e5, alpha, beta)
+        assert stable_frequency(dt, alpha, beta) == pytest.approx(1e5)
 
 
 def test_the_quick_tis_panel_run_passes_every_check():
