@@ -162,7 +162,9 @@ class PathFollower:
         (:meth:`dem.collapse_criteria.CollapseCriteria.remaining_rise`), an estimate that
         a creep can exceed; ``"load step"``: the change of lambda over the steps next
         to the peak (the path's peak lies between its neighbours' samples; the path
-        dependence of friction is measured only by a second run, ``error="full"``);
+        dependence of friction is measured only by a second run:
+        :func:`dem.static.solve_collapse` makes it with ``error="full"``, and past a peak
+        with ``"cheap"`` too);
         ``"residual"``: the error of lambda that the residual tolerance allows at the peak.
         """
         criteria = self.criteria

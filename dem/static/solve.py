@@ -23,6 +23,24 @@ from dem.static.settings import StaticSettings
 
 logger = logging.getLogger(__name__)
 
+PATH_SENSITIVE_ENDS = ("snap_back", "softening")
+"""Ends at a peak that an instability left behind. Which step sequence reaches such a peak
+decides where it lies (the frictional path dependence and the round-off at the joints' kinks,
+which `masonry-restrepo-kernels` measures across OpenBLAS kernels), by far more than the
+change between neighbouring steps shows; so every budget but ``"none"`` buys these ends a
+probe run (:data:`PATH_PROBE`)."""
+
+PATH_PROBE = 1e-3
+"""Relative change of the load step in the probe run of a path-sensitive end: too small to
+move a smooth path's peak by more than a thousandth of its load-step error, it changes every
+step of the sequence, so the peak moves by about the spread that round-off and the step
+sequence give it."""
+
+PROBE_SPREAD_FACTOR = 2.0
+"""The probe's change of the peak is one sample of the difference of two peaks drawn from the
+spread (about 1.1 standard deviations on average for a normal spread): twice it is about two
+standard deviations."""
+
 
 @threadpool_limits.wrap(limits=1, user_api="blas")
 def solve_collapse(
@@ -38,9 +56,12 @@ def solve_collapse(
     settings : StaticSettings, optional
     error : {"none", "cheap", "full"}
         What ``lambda_estimate`` spends: ``"cheap"`` the sources the path gives for free
-        (:meth:`dem.static.path.PathFollower.error_sources`); ``"full"`` also a second run at
-        twice the load step, whose change of ``lambda_max`` bounds the load-step error
-        (first order: the error of the finer run is about the change); ``"none"`` nothing.
+        (:meth:`dem.static.path.PathFollower.error_sources`), and for an end past a peak
+        (:data:`PATH_SENSITIVE_ENDS`) a probe run at a load step changed by
+        :data:`PATH_PROBE`, twice whose change of ``lambda_max`` is the ``"step sequence"``
+        source; ``"full"`` also a second run at twice the load step, whose change of
+        ``lambda_max`` bounds the load-step error (first order: the error of the finer run
+        is about the change); ``"none"`` nothing.
 
     Returns
     -------
@@ -88,8 +109,13 @@ def solve_collapse(
     if getattr(law, "grid_tolerance", None) is not None:
         return _solve_on_refined_grids(scene, settings, error)
     result = _solve(scene, settings, error)
-    if error == "full" and result.collapsed:
-        result = _with_load_step_error(scene, settings, result)
+    if result.collapsed and error != "none" and result.termination in PATH_SENSITIVE_ENDS:
+        probe = 1.0 + PATH_PROBE
+        result = _with_rerun_error(
+            scene, settings, result, probe, "step sequence", PROBE_SPREAD_FACTOR
+        )
+    if result.collapsed and error == "full":
+        result = _with_rerun_error(scene, settings, result, 2.0, "load step")
     if not result.collapsed and settings.on_failure == "raise":
         raise NoCollapseError(result.failure, result)
     return result
@@ -116,17 +142,28 @@ def _solve(scene: Scene, settings: StaticSettings, error: str) -> StaticResult:
     return replace(result, lambda_estimate=estimate)
 
 
-def _with_load_step_error(
-    scene: Scene, settings: StaticSettings, result: StaticResult
+def _with_rerun_error(
+    scene: Scene,
+    settings: StaticSettings,
+    result: StaticResult,
+    factor: float,
+    source: str,
+    widen: float = 1.0,
 ) -> StaticResult:
-    """``result`` whose load-step source is the change of ``lambda_max`` at twice the load
-    step (``inf`` if that run does not collapse), not less than the free bound."""
-    coarse = _solve(scene, replace(settings, load_step=2 * settings.load_step), "none")
-    change = abs(coarse.lambda_max - result.lambda_max) if coarse.collapsed else math.inf
+    """``result`` whose ``source`` is ``widen`` times the change of ``lambda_max`` in a rerun
+    at ``factor`` times the load step (``inf`` if the rerun does not collapse), not less than
+    the free bound."""
+    rerun = _solve(scene, replace(settings, load_step=factor * settings.load_step), "none")
+    change = abs(rerun.lambda_max - result.lambda_max) if rerun.collapsed else math.inf
+    change *= widen
     est = result.lambda_estimate
-    width = max(change, est.sources.get("load step", 0.0))
-    notes = f"load step: change of lambda_max at twice the step ({coarse.lambda_max:.6g})"
-    estimate = replace(est.with_source("load step", width, coarse.wall_s), notes=notes)
+    width = max(change, est.sources.get(source, 0.0))
+    note = (
+        f"{source}: change of lambda_max at {factor:g} times the load step "
+        f"({rerun.lambda_max:.6g}, {rerun.termination})"
+    )
+    notes = f"{est.notes}; {note}" if est.notes else note
+    estimate = replace(est.with_source(source, width, rerun.wall_s), notes=notes)
     return replace(result, lambda_estimate=estimate)
 
 

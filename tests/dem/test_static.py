@@ -1,6 +1,7 @@
 """Static DEM to collapse against closed forms (rigid blocks, Coulomb friction, no tension)."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -314,6 +315,27 @@ def test_error_budget_of_lambda(budget):
     else:
         assert est.cost_s > 0.0
         coarse = solve_collapse(scene, StaticSettings(load_step=0.02), error="none")
+        assert est.sources["load step"] >= abs(coarse.lambda_max - result.lambda_max)
+
+
+@pytest.mark.parametrize("budget", ["cheap", "full"])
+def test_a_bar_past_a_peak_measures_the_step_sequence(budget):
+    """A mortared block that cracks (tensile strength 10 kPa) loses a fifth of its load after
+    the peak (softening): where such a peak lies depends on the steps that reach it, so even
+    the cheap budget reruns at a load step 1.001 times as long, and the bar's "step
+    sequence" source is twice the change of the peak (full: also the load-step rerun); a
+    plateau end stays free (test_error_budget_of_lambda)."""
+    scene = _stack([(0.2, 0.5)], 0.7)
+    settings = StaticSettings(interface_model="resultant", tensile_strength=1e4)
+    result = solve_collapse(scene, settings, error=budget)
+    assert result.termination == "softening"
+    probe = solve_collapse(scene, replace(settings, load_step=0.01001), error="none")
+    est = result.lambda_estimate
+    assert est.cost_s > 0.0
+    assert est.sources["step sequence"] >= 2.0 * abs(probe.lambda_max - result.lambda_max)
+    assert est.contains(probe.lambda_max)
+    if budget == "full":
+        coarse = solve_collapse(scene, replace(settings, load_step=0.02), error="none")
         assert est.sources["load step"] >= abs(coarse.lambda_max - result.lambda_max)
 
 
