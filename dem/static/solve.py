@@ -25,10 +25,9 @@ logger = logging.getLogger(__name__)
 
 PATH_SENSITIVE_ENDS = ("snap_back", "softening")
 """Ends at a peak that an instability left behind. Which step sequence reaches such a peak
-decides where it lies (the frictional path dependence and the round-off at the joints' kinks,
-which `masonry-restrepo-kernels` measures across OpenBLAS kernels), by far more than the
-change between neighbouring steps shows; so every budget but ``"none"`` buys these ends a
-probe run (:data:`PATH_PROBE`)."""
+decides where it lies (the frictional path dependence; and the round-off at the joints' kinks:
+another sparse LU or BLAS kernel moves it), by far more than the change between neighbouring
+steps shows; so every budget but ``"none"`` buys these ends a probe run (:data:`PATH_PROBE`)."""
 
 PATH_PROBE = 1e-3
 """Relative change of the load step in the probe run of a path-sensitive end: too small to
@@ -58,7 +57,7 @@ def solve_collapse(
         What ``lambda_estimate`` spends: ``"cheap"`` the sources the path gives for free
         (:meth:`dem.static.path.PathFollower.error_sources`), and for an end past a peak
         (:data:`PATH_SENSITIVE_ENDS`) a probe run at a load step changed by
-        :data:`PATH_PROBE`, twice whose change of ``lambda_max`` is the ``"step sequence"``
+        :data:`PATH_PROBE`: twice its change of ``lambda_max`` is the ``"step sequence"``
         source; ``"full"`` also a second run at twice the load step, whose change of
         ``lambda_max`` bounds the load-step error (first order: the error of the finer run
         is about the change); ``"none"`` nothing.
