@@ -41,7 +41,7 @@ from dem.explicit.state import (
     Shapes,
 )
 from dem.explicit.step_check import StepCheck
-from dem.explicit.timestep import choose_time_step, highest_frequency
+from dem.explicit.timestep import ContactStiffness, choose_time_step, highest_frequency
 from dem.explicit.unmodelled import (
     INDENTER_DEPTH_LIMIT,
     UnmodelledContactError,
@@ -186,10 +186,7 @@ class ExplicitModel:
         indenter's), the time step and damping rates, and the contact law."""
         settings = self.settings
         self._frequency_indenter = self.indenter if with_indenter else None
-        self.omega_max = highest_frequency(
-            self.bodies, self.surface, self.state.contacts, self.state.motion.pos,
-            settings.k_n, settings.k_t, self._frequency_indenter,
-        )  # fmt: skip
+        self.omega_max = highest_frequency(self._contact_stiffness())
         step = choose_time_step(self.omega_max, settings)
         self.dt, self.dt_critical = step["dt"], step["dt_critical"]
         self.alpha, self.beta = step["alpha"], step["beta"]
@@ -304,11 +301,16 @@ class ExplicitModel:
         """Check ``dt`` against the present entries with the global damping rate ``alpha``
         [1/s] (:mod:`dem.explicit.step_check`, which raises :class:`SimulationError` if it is
         unstable for them)."""
-        k_n, k_t = self.settings.k_n, self.settings.k_t
-        frequency_args = (self.bodies, self.surface, self.state.contacts, self.pos, k_n, k_t,
-                          self._frequency_indenter, self.rotations())  # fmt: skip
-        self.step_check.check(frequency_args, self.dt, alpha, self.beta, self.t)
+        system = self._contact_stiffness(self.rotations())
+        self.step_check.check(system, self.dt, alpha, self.beta, self.t)
         self.step_checked = True
+
+    def _contact_stiffness(self, rot: np.ndarray | None = None) -> ContactStiffness:
+        """The present entries (and the indenter's where it sets the time step) at the
+        rotations ``rot`` (n, 3, 3) (None: the reference orientation)."""
+        k_n, k_t = self.settings.k_n, self.settings.k_t
+        return ContactStiffness(self.bodies, self.surface, self.state.contacts, self.pos, k_n,
+                                k_t, self._frequency_indenter, rot)  # fmt: skip
 
     def _refuse_unmodelled_contact(self, rot: np.ndarray) -> None:
         """Stop when two blocks overlap more than the model represents (:mod:`.unmodelled`);

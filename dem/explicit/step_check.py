@@ -17,6 +17,7 @@ import numpy as np
 
 from dem.explicit.settings import SimulationError
 from dem.explicit.timestep import (
+    ContactStiffness,
     frequency_bound,
     highest_frequency,
     stable_frequency,
@@ -49,12 +50,11 @@ class StepCheck:
     n_checks: int = 0
     n_exact: int = 0
 
-    def check(self, frequency_args: tuple, dt: float, alpha: float, beta: float, t: float) -> None:
-        """Check the present entries against ``dt`` [s] with damping ``alpha`` [1/s] and
-        ``beta`` [s].
-
-        ``frequency_args`` are the arguments of :func:`highest_frequency` (bodies, nodes,
-        contacts, pos, k_n, k_t, indenter, rot).
+    def check(
+        self, system: ContactStiffness, dt: float, alpha: float, beta: float, t: float
+    ) -> None:
+        """Check the present entries ``system`` against ``dt`` [s] with damping ``alpha``
+        [1/s] and ``beta`` [s] at the time ``t`` [s].
 
         Raises
         ------
@@ -63,19 +63,18 @@ class StepCheck:
         """
         self.n_checks += 1
         limit = stable_frequency(dt, alpha, beta)
-        bound = frequency_bound(*frequency_args)
+        bound = frequency_bound(system)
         top = float(bound.max(initial=0.0))
         if top > limit:
-            top = highest_frequency(*frequency_args)
+            top = highest_frequency(system)
             self.n_exact += 1
             self.omega_exact = max(self.omega_exact, top)
         self.omega_upper = max(self.omega_upper, top)
         if top > limit:
-            raise SimulationError(self._message(frequency_args, bound, top, limit, dt, alpha,
-                                                beta, t))  # fmt: skip
+            raise SimulationError(self._message(system, bound, top, limit, dt, alpha, beta, t))
 
-    def _message(self, frequency_args, bound, omega, limit, dt, alpha, beta, t) -> str:
-        bodies, nodes, contacts = frequency_args[:3]
+    def _message(self, system, bound, omega, limit, dt, alpha, beta, t) -> str:
+        nodes, contacts = system.nodes, system.contacts
         block = int(np.argmax(bound))
         owners = nodes.block[contacts.node]
         partners = np.unique(np.concatenate([contacts.block[owners == block],

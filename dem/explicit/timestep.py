@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
@@ -10,25 +11,11 @@ import scipy.linalg
 from dem.explicit.state import Bodies, Contacts, Indenter, Nodes
 
 
-def highest_frequency(
-    bodies: Bodies,
-    nodes: Nodes,
-    contacts: Contacts,
-    pos: np.ndarray,
-    k_n: float,
-    k_t: float,
-    indenter: Indenter | None = None,
-    rot: np.ndarray | None = None,
-) -> float:
-    """Highest natural frequency with every candidate contact closed [rad/s].
+@dataclass(frozen=True)
+class ContactStiffness:
+    """The contact entries whose stiffness sets the highest natural frequency.
 
-    Each entry adds ``k A w J^T J`` with ``J`` the 3 x 12 map from the two blocks' dofs to the
-    relative displacement of the node, and ``k = max(k_n, k_t)`` in every direction (an upper
-    bound on the normal plus tangential stiffness); indenter nodes add their own ``k_n A`` to the
-    loaded block. ``omega_max^2`` is the largest eigenvalue of ``K x = omega^2 M x`` over the free
-    dofs.
-
-    Parameters
+    Attributes
     ----------
     bodies, nodes, contacts : Bodies, Nodes, Contacts
         See :mod:`dem.explicit.state`.
@@ -41,13 +28,34 @@ def highest_frequency(
     rot : (n_blocks, 3, 3) float, optional
         Rotations of the blocks (default: the reference orientation).
     """
+
+    bodies: Bodies
+    nodes: Nodes
+    contacts: Contacts
+    pos: np.ndarray
+    k_n: float
+    k_t: float
+    indenter: Indenter | None = None
+    rot: np.ndarray | None = None
+
+
+def highest_frequency(system: ContactStiffness) -> float:
+    """Highest natural frequency with every candidate contact of ``system`` closed [rad/s].
+
+    Each entry adds ``k A w J^T J`` with ``J`` the 3 x 12 map from the two blocks' dofs to the
+    relative displacement of the node, and ``k = max(k_n, k_t)`` in every direction (an upper
+    bound on the normal plus tangential stiffness); indenter nodes add their own ``k_n A`` to the
+    loaded block. ``omega_max^2`` is the largest eigenvalue of ``K x = omega^2 M x`` over the free
+    dofs.
+    """
+    bodies, pos, rot = system.bodies, system.pos, system.rot
     free = bodies.free_blocks
     nf = len(free)
     if nf == 0:
         return 0.0
     free_index = -np.ones(len(bodies.inv_mass), dtype=np.int64)
     free_index[free] = np.arange(nf)
-    stiff, points, sides = _entries(nodes, contacts, pos, k_n, k_t, indenter, rot)
+    stiff, points, sides = _entries(system)
     jac = [(blk, sign[:, None, None] * _point_jacobian(points - pos[blk])) for blk, sign in sides]
     K = np.zeros((6 * nf, 6 * nf))
     for bi, Ji in jac:
@@ -68,16 +76,7 @@ def highest_frequency(
     return float(math.sqrt(max(top, 0.0)))
 
 
-def frequency_bound(
-    bodies: Bodies,
-    nodes: Nodes,
-    contacts: Contacts,
-    pos: np.ndarray,
-    k_n: float,
-    k_t: float,
-    indenter: Indenter | None = None,
-    rot: np.ndarray | None = None,
-) -> np.ndarray:
+def frequency_bound(system: ContactStiffness) -> np.ndarray:
     """Upper bound on :func:`highest_frequency` per free block [rad/s], in O(entries).
 
     An entry that moves ``s`` free blocks (1 or 2) adds ``k A w (J_a - J_b)^T (J_a - J_b)``
@@ -87,14 +86,13 @@ def frequency_bound(
     ``max_i lambda_max(K_ii, M_ii) >= max_i lambda_max(D_ii, M_ii) / 2``, the bound is at most
     ``sqrt(2)`` times the exact ``omega_max``.
 
-    Parameters are those of :func:`highest_frequency`.
-
     Returns
     -------
     (n_blocks,) float
         The bound from each block's entries [rad/s] (0 for fixed blocks and blocks without
         entries); its maximum bounds ``omega_max``.
     """
+    bodies, pos, rot = system.bodies, system.pos, system.rot
     n_blocks = len(bodies.inv_mass)
     out = np.zeros(n_blocks)
     free = bodies.free_blocks
@@ -102,7 +100,7 @@ def frequency_bound(
         return out
     is_free = np.zeros(n_blocks, dtype=bool)
     is_free[free] = True
-    stiff, points, sides = _entries(nodes, contacts, pos, k_n, k_t, indenter, rot)
+    stiff, points, sides = _entries(system)
     moves = [is_free[blk] & (sign != 0.0) & (stiff > 0) for blk, sign in sides]
     weight = np.sum(moves, axis=0) * stiff
     D = np.zeros((n_blocks, 6, 6))
@@ -161,22 +159,23 @@ def stable_time_step(omega: float, alpha: float, beta: float) -> float:
     return (math.sqrt(damping * damping + 4.0 * omega * omega) - damping) / omega**2
 
 
-def _entries(nodes, contacts, pos, k_n, k_t, indenter, rot):
-    """Per entry: stiffness ``k A w`` [N/m] (m,), node position [m] (m, 3) and the two sides
-    as ``(block (m,), sign (m,))`` (sign 0 for the indenter's side)."""
+def _entries(system: ContactStiffness):
+    """Per entry of ``system``: stiffness ``k A w`` [N/m] (m,), node position [m] (m, 3) and
+    the two sides as ``(block (m,), sign (m,))`` (sign 0 for the indenter's side)."""
+    nodes, contacts, indenter = system.nodes, system.contacts, system.indenter
     owners = nodes.block[contacts.node]
     offsets = nodes.r0[contacts.node]
-    stiff = max(k_n, k_t) * nodes.area[contacts.node] * contacts.weight
+    stiff = max(system.k_n, system.k_t) * nodes.area[contacts.node] * contacts.weight
     others, signs = contacts.block, -np.ones(len(owners))
     if indenter is not None and len(indenter.block):
         offsets = np.concatenate([offsets, indenter.r0])
-        stiff = np.concatenate([stiff, k_n * indenter.area])
+        stiff = np.concatenate([stiff, system.k_n * indenter.area])
         owners = np.concatenate([owners, indenter.block])
         others = np.concatenate([contacts.block, indenter.block])
         signs = np.concatenate([signs, np.zeros(len(indenter.block))])
-    if rot is not None:
-        offsets = np.einsum("mij,mj->mi", rot[owners], offsets)
-    return stiff, pos[owners] + offsets, [(owners, np.ones(len(owners))), (others, signs)]
+    if system.rot is not None:
+        offsets = np.einsum("mij,mj->mi", system.rot[owners], offsets)
+    return stiff, system.pos[owners] + offsets, [(owners, np.ones(len(owners))), (others, signs)]
 
 
 def _inertia(bodies: Bodies, free: np.ndarray, rot: np.ndarray | None) -> np.ndarray:

@@ -17,6 +17,7 @@ import pytest
 
 from dem.explicit import ExplicitModel, ExplicitSettings, SimulationError
 from dem.explicit.timestep import (
+    ContactStiffness,
     choose_time_step,
     frequency_bound,
     highest_frequency,
@@ -84,10 +85,10 @@ def test_the_per_block_bound_is_within_sqrt2_above_the_exact_frequency():
     model.quat[:, 1:] = rng.normal(scale=0.002, size=(model.n_blocks, 3))
     model.quat[:] /= np.linalg.norm(model.quat, axis=1, keepdims=True)
     model.rebuild()
-    args = (model.bodies, model.surface, model.state.contacts, model.pos, K_N, 0.5 * K_N,
-            model.indenter, model.rotations())  # fmt: skip
-    exact = highest_frequency(*args)
-    bound = frequency_bound(*args).max()
+    system = ContactStiffness(model.bodies, model.surface, model.state.contacts, model.pos,
+                              K_N, 0.5 * K_N, model.indenter, model.rotations())  # fmt: skip
+    exact = highest_frequency(system)
+    bound = frequency_bound(system).max()
     assert exact > 0
     assert exact * (1 - 1e-9) <= bound <= math.sqrt(2.0) * exact * (1 + 1e-9)
 
